@@ -1,0 +1,122 @@
+"""Sampling an equirectangular image at continuous pixel positions.
+
+The sphere has no edges, so neither do the samplers: columns wrap around the
+longitude seam, and a tap above the top row (or below the bottom row) is the
+pixel on the other side of the pole: row ``-1 - r``, half a turn round in
+longitude. Interpolation is therefore continuous across the seam and over
+both poles; there is no clamped black column and no pinch.
+
+Convention: positions are pixel coordinates ``(x, y)`` with pixel centres at
+half-integers (see :mod:`spherewarp.coords`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import InvalidValueError
+
+__all__ = ["INTERPOLATIONS", "sample", "check_interp"]
+
+INTERPOLATIONS = ("nearest", "bilinear", "bicubic")
+
+
+def check_interp(interp: str) -> str:
+    """Normalise an interpolation name (case-insensitive), or raise listing the allowed ones."""
+    name = str(interp).strip().lower()
+    aliases = {"linear": "bilinear", "cubic": "bicubic", "near": "nearest"}
+    name = aliases.get(name, name)
+    if name not in INTERPOLATIONS:
+        raise InvalidValueError(
+            f"unknown interpolation {interp!r}; expected one of: {', '.join(INTERPOLATIONS)}"
+        )
+    return name
+
+
+def _flat_index(iy: NDArray[np.intp], ix: NDArray[np.intp], h: int, w: int) -> NDArray[np.intp]:
+    """Flat indices of taps ``(iy, ix)``, folded over the poles and wrapped in longitude."""
+    top = iy < 0
+    bottom = iy >= h
+    over = top | bottom
+    if np.any(over):
+        iy = np.where(top, -1 - iy, np.where(bottom, 2 * h - 1 - iy, iy))
+        ix = np.where(over, ix + w // 2, ix)
+        # Taps further than one image height away cannot occur for positions on the sphere.
+        np.clip(iy, 0, h - 1, out=iy)
+    ix = np.mod(ix, w)
+    return iy * w + ix
+
+
+def _cubic_weights(t: NDArray[np.float32]) -> list[NDArray[np.float32]]:
+    """Keys cubic convolution weights (a = -0.5, Catmull-Rom) for taps -1, 0, 1, 2."""
+    a = np.float32(-0.5)
+    t2 = t * t
+    t3 = t2 * t
+    w0 = a * (t3 - 2 * t2 + t)
+    w1 = (a + 2) * t3 - (a + 3) * t2 + 1
+    w2 = -(a + 2) * t3 + (2 * a + 3) * t2 - a * t
+    w3 = a * (t2 - t3)
+    return [w0, w1, w2, w3]
+
+
+def sample(
+    image: NDArray, x: NDArray[np.floating], y: NDArray[np.floating], interp: str = "bilinear"
+) -> NDArray[np.float32]:
+    """Sample an equirectangular image at pixel positions.
+
+    Parameters
+    ----------
+    image : ndarray, shape (H, W, C)
+        Any real dtype; values are read as float32.
+    x, y : ndarray
+        Pixel coordinates of the same shape ``S`` (pixel centres at
+        half-integers, any real values: ``x`` wraps, ``y`` is expected in
+        ``[0, H]``).
+    interp : {"nearest", "bilinear", "bicubic"}
+
+    Returns
+    -------
+    ndarray, float32, shape ``S + (C,)``
+
+    Examples
+    --------
+    >>> img = np.arange(8, dtype=np.uint8).reshape(2, 4, 1)
+    >>> sample(img, np.array([0.5, 4.0]), np.array([0.5, 0.5]))[:, 0]
+    array([0. , 1.5], dtype=float32)
+    """
+    interp = check_interp(interp)
+    if image.ndim != 3:
+        raise InvalidValueError(f"expected an image of shape (H, W, C), got {image.shape}")
+    h, w, c = image.shape
+    flat = image.reshape(h * w, c)
+    fx = np.asarray(x, dtype=np.float64) - 0.5
+    fy = np.asarray(y, dtype=np.float64) - 0.5
+    shape = fx.shape
+    if interp == "nearest":
+        ix = np.floor(fx + 0.5).astype(np.intp)
+        iy = np.floor(fy + 0.5).astype(np.intp)
+        return flat[_flat_index(iy, ix, h, w)].astype(np.float32, copy=False).reshape(*shape, c)
+
+    x0f = np.floor(fx)
+    y0f = np.floor(fy)
+    tx = (fx - x0f).astype(np.float32)
+    ty = (fy - y0f).astype(np.float32)
+    x0 = x0f.astype(np.intp)
+    y0 = y0f.astype(np.intp)
+    if interp == "bilinear":
+        wx = [1 - tx, tx]
+        wy = [1 - ty, ty]
+        offsets = (0, 1)
+    else:
+        wx = _cubic_weights(tx)
+        wy = _cubic_weights(ty)
+        offsets = (-1, 0, 1, 2)
+    out = np.zeros((*shape, c), dtype=np.float32)
+    for j, oy in enumerate(offsets):
+        row = np.zeros((*shape, c), dtype=np.float32)
+        for i, ox in enumerate(offsets):
+            taps = flat[_flat_index(y0 + oy, x0 + ox, h, w)]
+            row += wx[i][..., None] * taps
+        out += wy[j][..., None] * row
+    return out
