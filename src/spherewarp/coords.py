@@ -177,10 +177,9 @@ def cp1_from_xyz(xyz: ArrayLike) -> ComplexArray:
 
     Examples
     --------
-    >>> cp1_from_xyz([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [-1.0, 0.0, 0.0]]).round(12)
-    array([[0.        +0.j, 1.        +0.j],
-           [1.        +0.j, 0.        +0.j],
-           [0.70710678+0.j, 0.70710678+0.j]])
+    >>> zw = cp1_from_xyz([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
+    >>> plane_from_cp1(zw).round(12) + 0   # zenith, back, lon -90
+    array([0.+0.j, 1.+0.j, 0.+1.j])
     """
     v = np.asarray(xyz, dtype=np.float64)
     x, y, z = v[..., 0], v[..., 1], v[..., 2]
