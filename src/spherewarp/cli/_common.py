@@ -1,0 +1,271 @@
+"""Options and helpers shared by the subcommands.
+
+A subcommand that renders one image looks like this::
+
+    @click.command(epilog=example("spherewarp rotate in.jpg --yaw 30 -o out.jpg"))
+    @input_argument
+    @render_options
+    @click.option("--yaw", type=float, default=0.0)
+    def rotate(input, render, yaw):
+        src = load_input(input, render)
+        out = warp(src.pixels, inverse_map, **render.warp_kwargs(src.pixels))
+        save_output(out, src, render, command="rotate")
+
+Values are parsed by click types that raise one-line errors naming the option.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import click
+
+from ..errors import InvalidValueError, OutputExistsError
+
+__all__ = [
+    "POINT",
+    "PIXEL",
+    "COMPLEX",
+    "SIZE",
+    "RenderOptions",
+    "example",
+    "input_argument",
+    "render_options",
+    "load_input",
+    "save_output",
+    "output_path",
+]
+
+
+def example(*lines: str) -> str:
+    """An epilog for ``--help`` showing example command lines."""
+    body = "\n".join(f"  {line}" for line in lines)
+    return f"\b\nExample{'s' if len(lines) > 1 else ''}:\n{body}"
+
+
+class PointType(click.ParamType):
+    """``LON,LAT`` in degrees."""
+
+    name = "LON,LAT"
+
+    def convert(self, value: Any, param: Any, ctx: Any) -> tuple[float, float]:
+        if isinstance(value, tuple):
+            return value
+        from ..coords import parse_lonlat
+
+        try:
+            return parse_lonlat(value)
+        except InvalidValueError as exc:
+            self.fail(str(exc), param, ctx)
+
+
+class PixelType(click.ParamType):
+    """``X,Y`` in pixels of the input image."""
+
+    name = "X,Y"
+
+    def convert(self, value: Any, param: Any, ctx: Any) -> tuple[float, float]:
+        if isinstance(value, tuple):
+            return value
+        try:
+            x, y = (float(v) for v in str(value).replace(" ", "").split(","))
+        except ValueError:
+            self.fail(f"expected a pixel position X,Y (e.g. 512,256), got {value!r}", param, ctx)
+        return x, y
+
+
+class ComplexType(click.ParamType):
+    """A complex number such as ``2``, ``-0.5j``, ``1+2j`` or ``1+2i``."""
+
+    name = "COMPLEX"
+
+    def convert(self, value: Any, param: Any, ctx: Any) -> complex:
+        if isinstance(value, complex):
+            return value
+        text = str(value).strip().replace(" ", "").replace("i", "j").replace("J", "j")
+        try:
+            c = complex(text)
+        except ValueError:
+            self.fail(f"expected a complex number like 1+2j, got {value!r}", param, ctx)
+        if c != c or abs(c) == float("inf"):
+            self.fail(f"expected a finite complex number, got {value!r}", param, ctx)
+        return c
+
+
+class SizeType(click.ParamType):
+    """``WxH`` in pixels, or ``W`` alone for a 2:1 image of that width."""
+
+    name = "WxH"
+
+    def convert(self, value: Any, param: Any, ctx: Any) -> tuple[int, int]:
+        if isinstance(value, tuple):
+            return value
+        text = str(value).lower().replace(" ", "")
+        try:
+            if "x" in text:
+                w, h = (int(v) for v in text.split("x"))
+            else:
+                w = int(text)
+                h = w // 2
+        except ValueError:
+            self.fail(f"expected a size WxH like 2048x1024, got {value!r}", param, ctx)
+        if not (1 <= w <= 65536 and 1 <= h <= 32768):
+            self.fail(f"expected a size between 1x1 and 65536x32768, got {value!r}", param, ctx)
+        return w, h
+
+
+POINT = PointType()
+PIXEL = PixelType()
+COMPLEX = ComplexType()
+SIZE = SizeType()
+
+
+@dataclass(frozen=True)
+class RenderOptions:
+    """The options every rendering command shares."""
+
+    output: Path | None
+    overwrite: bool
+    force: bool
+    size: tuple[int, int] | None
+    interp: str
+    supersample: int
+    quality: int
+
+    def warp_kwargs(self, pixels: Any) -> dict[str, Any]:
+        """Keyword arguments for :func:`spherewarp.warp`."""
+        kwargs: dict[str, Any] = {
+            "interp": self.interp,
+            "supersample": self.supersample,
+            "force": self.force,
+        }
+        if self.size is not None:
+            kwargs["output_shape"] = (self.size[1], self.size[0])
+        return kwargs
+
+
+def input_argument(func: Callable) -> Callable:
+    """The ``INPUT`` image argument."""
+    return click.argument(
+        "input", type=click.Path(dir_okay=False, path_type=Path), metavar="INPUT"
+    )(func)
+
+
+def render_options(func: Callable) -> Callable:
+    """``-o``, ``--overwrite``, ``--force``, ``--size``, ``--interp``, ``--supersample``,
+    ``--quality``; the command receives them as one ``render`` argument."""
+    options = [
+        click.option(
+            "-o",
+            "--output",
+            type=click.Path(dir_okay=False, path_type=Path),
+            help="Output file; its extension picks the format. "
+            "Default: INPUT's name with the command appended, in the current directory.",
+        ),
+        click.option("--overwrite", is_flag=True, help="Replace an existing output file."),
+        click.option(
+            "--force", is_flag=True, help="Treat an input that is not 2:1 as equirectangular."
+        ),
+        click.option("--size", type=SIZE, help="Output size WxH (default: the input's size)."),
+        click.option(
+            "--interp",
+            type=click.Choice(["bilinear", "bicubic", "nearest"], case_sensitive=False),
+            default="bilinear",
+            show_default=True,
+            help="Sampling of the input.",
+        ),
+        click.option(
+            "--supersample",
+            type=click.IntRange(1, 16),
+            default=1,
+            show_default=True,
+            help="Average NxN samples per output pixel (anti-aliasing).",
+        ),
+        click.option(
+            "--quality",
+            type=click.IntRange(1, 100),
+            default=95,
+            show_default=True,
+            help="JPEG/WebP quality.",
+        ),
+    ]
+
+    def wrapper(**kwargs: Any) -> Any:
+        render = RenderOptions(
+            output=kwargs.pop("output"),
+            overwrite=kwargs.pop("overwrite"),
+            force=kwargs.pop("force"),
+            size=kwargs.pop("size"),
+            interp=kwargs.pop("interp").lower(),
+            supersample=kwargs.pop("supersample"),
+            quality=kwargs.pop("quality"),
+        )
+        return func(render=render, **kwargs)
+
+    wrapper.__name__ = func.__name__
+    wrapper.__doc__ = func.__doc__
+    for option in reversed(options):
+        wrapper = option(wrapper)
+    return wrapper
+
+
+def load_input(path: Path, render: RenderOptions | None = None) -> Any:
+    """Read an input image (``ImageData``), refusing a non-2:1 one unless ``--force``."""
+    from ..io import read_image
+    from ..render.warp import check_equirect
+
+    data = read_image(path)
+    check_equirect(data.pixels, force=bool(render and render.force), name=str(path))
+    return data
+
+
+def output_path(render: RenderOptions, input_path: Path | None, command: str) -> Path:
+    """Where to write: ``-o``, or ``<input stem>-<command><input suffix>`` in the cwd."""
+    if render.output is not None:
+        out = render.output
+    elif input_path is not None:
+        out = Path(f"{input_path.stem}-{command}{input_path.suffix}")
+    else:
+        out = Path(f"{command}.png")
+    if input_path is not None:
+        same = out.resolve() == input_path.resolve()
+        if not same and out.exists() and input_path.exists():
+            same = os.path.samefile(out, input_path)
+        if same:
+            raise InvalidValueError(
+                f"the output {str(out)!r} is the input file; choose another -o (inputs are "
+                "never overwritten)"
+            )
+    if out.exists() and not render.overwrite:
+        raise OutputExistsError(f"{str(out)!r} exists; pass --overwrite to replace it")
+    return out
+
+
+def save_output(
+    pixels: Any,
+    source: Any,
+    render: RenderOptions,
+    command: str,
+) -> Path:
+    """Write the result atomically, carrying ICC profile and EXIF over from ``source``.
+
+    ``source`` is the input's ``ImageData`` (or None). Prints the path written.
+    """
+    from ..io import write_image
+
+    out = output_path(render, getattr(source, "path", None), command)
+    written = write_image(
+        out,
+        pixels,
+        icc_profile=getattr(source, "icc_profile", None),
+        exif=getattr(source, "exif", None),
+        gpano=True,
+        quality=render.quality,
+        overwrite=render.overwrite,
+    )
+    click.echo(f"wrote {written}")
+    return Path(written)
