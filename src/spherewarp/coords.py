@@ -92,8 +92,9 @@ def lonlat_from_pixel(pixel: ArrayLike, width: int, height: int) -> FloatArray:
     array([0., 0.])
     """
     p = np.asarray(pixel, dtype=np.float64)
-    lon = (2.0 * np.pi / width) * p[..., 0] - np.pi
-    lat = 0.5 * np.pi - (np.pi / height) * p[..., 1]
+    # Written so that the edges are exact: x = 0, W give -pi, pi; y = 0, H give pi/2, -pi/2.
+    lon = np.pi * (2.0 * p[..., 0] / width - 1.0)
+    lat = np.pi * (0.5 - p[..., 1] / height)
     return np.stack([lon, lat], axis=-1)
 
 
@@ -109,8 +110,8 @@ def pixel_from_lonlat(lonlat: ArrayLike, width: int, height: int) -> FloatArray:
     array([768., 128.])
     """
     ll = np.asarray(lonlat, dtype=np.float64)
-    x = (ll[..., 0] + np.pi) * (width / (2.0 * np.pi))
-    y = (0.5 * np.pi - ll[..., 1]) * (height / np.pi)
+    x = (ll[..., 0] / np.pi + 1.0) * (0.5 * width)
+    y = (0.5 - ll[..., 1] / np.pi) * height
     return np.stack([x, y], axis=-1)
 
 
@@ -159,12 +160,23 @@ def normalize_cp1(zw: ArrayLike) -> ComplexArray:
     array([0.6+0.j , 0. +0.8j])
     """
     v = np.asarray(zw, dtype=np.complex128)
-    n = np.sqrt(np.abs(v[..., 0]) ** 2 + np.abs(v[..., 1]) ** 2)
-    bad = ~(n > 0) | ~np.isfinite(n)
-    if np.any(bad):
+    with np.errstate(over="ignore", under="ignore"):
+        n = np.sqrt(np.abs(v[..., 0]) ** 2 + np.abs(v[..., 1]) ** 2)
+    odd = ~((n > 1e-150) & (n < 1e150))  # also NaN
+    if np.any(odd):
+        # Rescale by the larger entry first, so that huge and tiny (even
+        # subnormal) pairs neither overflow nor underflow.
         v = v.copy()
-        v[bad] = (0.0, 1.0)
-        n = np.where(bad, 1.0, n)
+        sub = v[odd]
+        s = np.maximum(np.abs(sub[..., 0]), np.abs(sub[..., 1]))
+        bad = ~(s > 0) | ~np.isfinite(s)
+        sub[bad] = (0.0, 1.0)
+        # divide the real and imaginary parts as reals (complex division can overflow)
+        parts = sub.view(np.float64) / np.where(bad, 1.0, s)[..., None]
+        sub = parts.view(np.complex128)
+        v[odd] = sub
+        n = n.copy() if n.ndim else np.array(n)
+        n[odd] = np.sqrt(np.abs(sub[..., 0]) ** 2 + np.abs(sub[..., 1]) ** 2)
     return v / n[..., None]
 
 
@@ -223,13 +235,14 @@ def cp1_from_plane(z: ArrayLike) -> ComplexArray:
     """
     zz = np.asarray(z, dtype=np.complex128)
     finite = np.isfinite(zz)
-    big = finite & (np.abs(zz) > 1.0)
     zs = np.where(finite, zz, 0.0)
-    safe = np.where(big, zs, 1.0)
-    a = np.where(big, 1.0, zs)
-    b = np.where(big, 1.0 / safe, 1.0)
-    a = np.where(finite, a, 1.0)
-    b = np.where(finite, b, 0.0)
+    # Scale (z, 1) by the largest component of z when that exceeds 1: both
+    # entries stay finite and non-zero even for |z| near the float64 limit
+    # (1/z itself would overflow inside the complex division).
+    m = np.maximum(np.abs(zs.real), np.abs(zs.imag))
+    scale = np.where(m > 1.0, m, 1.0)
+    a = np.where(finite, zs / scale, 1.0)
+    b = np.where(finite, 1.0 / scale, 0.0)
     return normalize_cp1(np.stack([a, b], axis=-1))
 
 
@@ -244,7 +257,7 @@ def plane_from_cp1(zw: ArrayLike) -> ComplexArray:
     v = np.asarray(zw, dtype=np.complex128)
     a, b = v[..., 0], v[..., 1]
     zero = b == 0
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         out = a / np.where(zero, 1.0, b)
     return np.where(zero, complex(np.inf, 0.0), out)
 
@@ -286,7 +299,9 @@ def cp1_from_lonlat(lonlat: ArrayLike) -> ComplexArray:
     ll = np.asarray(lonlat, dtype=np.float64)
     half = 0.25 * np.pi - 0.5 * ll[..., 1]
     a = -np.sin(half) * np.exp(1j * ll[..., 0])
-    return np.stack([a, np.cos(half).astype(np.complex128)], axis=-1)
+    # cos(half) as sin(pi/2 - half), so that it is exactly 0 at the nadir.
+    b = np.sin(0.25 * np.pi + 0.5 * ll[..., 1])
+    return np.stack([a, b.astype(np.complex128)], axis=-1)
 
 
 def lonlat_from_cp1(zw: ArrayLike) -> FloatArray:

@@ -208,6 +208,8 @@ def render_options(func: Callable) -> Callable:
 
     wrapper.__name__ = func.__name__
     wrapper.__doc__ = func.__doc__
+    # Keep the options that decorators below this one attached to ``func``.
+    wrapper.__click_params__ = list(getattr(func, "__click_params__", []))  # type: ignore[attr-defined]
     for option in reversed(options):
         wrapper = option(wrapper)
     return wrapper

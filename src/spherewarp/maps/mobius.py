@@ -176,8 +176,19 @@ class Mobius(SphereMap):
 
     @classmethod
     def _from_params(cls, params: dict[str, Any]) -> Mobius:
+        if set(params) != {"matrix"}:
+            raise InvalidValueError(
+                f"expected the parameter 'matrix' for a Möbius map, got {sorted(params)}"
+            )
         rows = params["matrix"]
-        return cls([[_complex_from_json(c) for c in row] for row in rows])
+        try:
+            entries = [[_complex_from_json(c) for c in row] for row in rows]
+        except (TypeError, ValueError):
+            raise InvalidValueError(
+                f"expected a 2x2 matrix of complex numbers ([re, im] pairs, numbers or "
+                f"strings like '1+2i'), got {rows!r:.80}"
+            ) from None
+        return cls(entries)
 
     def __repr__(self) -> str:
         def fmt(c: complex) -> str:
@@ -257,17 +268,36 @@ class Mobius(SphereMap):
 
         By the trace ``t`` of the SL(2, C) matrix: real with ``|t| < 2``
         elliptic, ``|t| = 2`` parabolic, real with ``|t| > 2`` hyperbolic,
-        otherwise loxodromic.
+        otherwise loxodromic. Numerically the tests are made on the
+        multiplier ``k`` at a fixed point (``|k| = 1`` elliptic, ``k > 0``
+        hyperbolic), relative to ``|log k|``, so that a rotation by a tiny
+        angle is still elliptic and a tiny zoom still hyperbolic; a map is
+        parabolic when its two fixed points merge to within ``sqrt(atol)``
+        relative to the size of its traceless part.
+
+        Examples
+        --------
+        >>> Mobius.rotation((10, 20), 1e-3).classify(), Mobius.zoom((0, 0), 1.00001).classify()
+        ('elliptic', 'hyperbolic')
         """
         if self.is_identity(atol):
             return "identity"
-        t = self.trace
-        if abs(t.imag) > atol:
-            return "loxodromic"
-        r = abs(t.real)
-        if abs(r - 2) <= atol:
+        (a, b), (c, d) = self._m
+        half = complex(a + d) / 2
+        # sqrt(half**2 - 1) (half the eigenvalue gap), accurate when half is near +-1
+        disc = cmath.sqrt(complex((a - d) ** 2 / 4 + b * c))
+        size = max(abs(a - d) / 2, abs(b), abs(c))  # the traceless part; > 0 (not identity)
+        if abs(disc) <= math.sqrt(atol) * size:
             return "parabolic"
-        return "elliptic" if r < 2 else "hyperbolic"
+        lam = half + disc if abs(half + disc) >= abs(half - disc) else half - disc
+        zoom = 2 * math.log(abs(lam))  # log |k| >= 0 for the eigenvalue with |lam| >= 1
+        turn = math.remainder(2 * cmath.phase(lam), 2 * math.pi)  # arg k in [-pi, pi]
+        scale = math.hypot(zoom, turn)
+        if zoom <= atol * scale:
+            return "elliptic"
+        if abs(turn) <= atol * scale:
+            return "hyperbolic"
+        return "loxodromic"
 
     def fixed_points(self) -> NDArray[np.complex128]:
         """The fixed points as unit-norm pairs, shape ``(k, 2)``, k = 1 or 2.
@@ -436,13 +466,14 @@ class Mobius(SphereMap):
         a = coords.xyz_from_cp1(as_cp1_point(p, "p"))
         b = coords.xyz_from_cp1(as_cp1_point(q, "q"))
         axis = np.cross(a, b)
-        s, c = np.linalg.norm(axis), float(np.dot(a, b))
+        s, c = float(np.linalg.norm(axis)), float(np.dot(a, b))
         if s < 1e-12:
             if c > 0:
                 return cls.identity()
+            # Antipodal: a half turn about any axis perpendicular to both.
             helper = np.array([1.0, 0.0, 0.0]) if abs(a[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
             axis = np.cross(a, helper)
-            s = np.linalg.norm(axis)
+            return cls.rotation(axis / np.linalg.norm(axis), 180.0)
         return cls.rotation(axis / s, math.degrees(math.atan2(s, c)))
 
     @classmethod
