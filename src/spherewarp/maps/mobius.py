@@ -146,12 +146,14 @@ class Mobius(SphereMap):
             raise InvalidValueError(f"expected a 2x2 matrix, got shape {m.shape}")
         if not np.all(np.isfinite(m)):
             raise InvalidValueError("expected a finite matrix, got NaN or inf entries")
-        scale = np.abs(m).max()
+        # max of |re|, |im| cannot overflow where |entry| could
+        scale = max(float(np.abs(m.real).max()), float(np.abs(m.imag).max()))
         if scale == 0:
             raise InvalidValueError("expected an invertible matrix, got the zero matrix")
-        m = m / scale
+        with np.errstate(over="ignore", invalid="ignore"):
+            m = m / scale  # complex division of subnormals can overflow: checked below
         det = m[0, 0] * m[1, 1] - m[0, 1] * m[1, 0]
-        if abs(det) < 1e-13:
+        if not np.all(np.isfinite(m)) or not abs(det) >= 1e-13:
             raise InvalidValueError(
                 f"expected an invertible matrix (ad - bc != 0), got a singular one "
                 f"(|det| = {abs(det) * scale**2:.3g})"
