@@ -32,11 +32,23 @@ COMMANDS: dict[str, str] = {
     "testpattern": "misc_cmds:testpattern",
     "info": "misc_cmds:info",
     "demo": "misc_cmds:demo",
+    "droste": "droste_cmds:droste",
 }
+
+
+class _Interrupted(Exception):
+    """A KeyboardInterrupt inside a command, carried past click's own handler
+    (which would print an empty line to stderr first)."""
 
 
 class LazyGroup(click.Group):
     """A click group that imports a subcommand's module only when it is used."""
+
+    def invoke(self, ctx: click.Context) -> Any:
+        try:
+            return super().invoke(ctx)
+        except KeyboardInterrupt:
+            raise _Interrupted from None
 
     def list_commands(self, ctx: click.Context) -> list[str]:
         return sorted(COMMANDS)
@@ -92,8 +104,8 @@ def main(argv: list[str] | None = None) -> Any:
     except SpherewarpError as exc:
         click.echo(f"{prog}: error: {_one_line(exc)}", err=True)
         sys.exit(2)
-    except KeyboardInterrupt:
-        click.echo(f"{prog}: interrupted; no output was written", err=True)
+    except (KeyboardInterrupt, _Interrupted):
+        click.echo(f"{prog}: interrupted (no partially written file is left)", err=True)
         sys.exit(130)
     except OSError as exc:
         name = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""

@@ -1,0 +1,353 @@
+"""``spherewarp rotate``, ``zoom`` and ``mobius``: Möbius transformations of an image.
+
+Each command builds the map that moves the content (the *forward* map), then
+renders by pulling the image back through its inverse. ``--print`` prints the
+forward map as JSON (:meth:`~spherewarp.maps.SphereMap.to_json`) instead of
+rendering; :func:`spherewarp.maps.map_from_json` reads it back and
+``spherewarp.render.push(image, m)`` renders it.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import click
+
+from ._common import PIXEL, POINT, RenderOptions, example, input_argument, render_options
+
+__all__ = ["rotate", "zoom", "mobius"]
+
+
+class AngleType(click.ParamType):
+    """A finite angle in degrees."""
+
+    name = "DEG"
+
+    def convert(self, value: Any, param: Any, ctx: Any) -> float:
+        if isinstance(value, float):
+            return value
+        try:
+            v = float(str(value).strip())
+        except ValueError:
+            self.fail(f"expected an angle in degrees (e.g. 30 or -12.5), got {value!r}", param, ctx)
+        if not math.isfinite(v):
+            self.fail(f"expected a finite angle in degrees, got {value!r}", param, ctx)
+        return v
+
+
+class FactorType(click.ParamType):
+    """A finite real number > 0."""
+
+    name = "F"
+
+    def convert(self, value: Any, param: Any, ctx: Any) -> float:
+        if isinstance(value, float):
+            return value
+        try:
+            v = float(str(value).strip())
+        except ValueError:
+            self.fail(f"expected a zoom factor > 0 (e.g. 2 or 0.5), got {value!r}", param, ctx)
+        if not (math.isfinite(v) and v > 0):
+            self.fail(
+                f"expected a finite zoom factor > 0 (1 = no zoom, 0.5 = zoom out), got {value!r}",
+                param,
+                ctx,
+            )
+        return v
+
+
+class MatrixType(click.ParamType):
+    """Four complex entries ``a,b,c,d`` of the matrix ``[[a, b], [c, d]]``."""
+
+    name = "a,b,c,d"
+
+    def convert(self, value: Any, param: Any, ctx: Any) -> tuple[complex, ...]:
+        if isinstance(value, tuple):
+            return value
+        parts = str(value).replace(" ", "").split(",")
+        if len(parts) != 4:
+            self.fail(
+                f"expected four complex entries a,b,c,d (e.g. 1,0.5j,0,1), got {value!r} "
+                f"({len(parts)} entr{'y' if len(parts) == 1 else 'ies'})",
+                param,
+                ctx,
+            )
+        entries = []
+        for name, text in zip("abcd", parts, strict=True):
+            low = text.lower()
+            if "nan" in low or "inf" in low:
+                self.fail(f"expected finite matrix entries, got {name} = {text!r}", param, ctx)
+            try:
+                c = complex(low.replace("i", "j"))
+            except ValueError:
+                self.fail(
+                    f"expected a complex number like 1+2j or 0.5i for entry {name}, got {text!r}",
+                    param,
+                    ctx,
+                )
+            if not (math.isfinite(c.real) and math.isfinite(c.imag)):
+                self.fail(f"expected finite matrix entries, got {name} = {text!r}", param, ctx)
+            entries.append(c)
+        return tuple(entries)
+
+
+ANGLE = AngleType()
+FACTOR = FactorType()
+MATRIX = MatrixType()
+
+_PRINT_HELP = (
+    "Print the map that moves the content as JSON (spherewarp.maps.map_from_json reads it) "
+    "instead of rendering."
+)
+
+
+def check_output_suffix(path: Path) -> None:
+    """Raise unless ``path``'s extension names a format that can be written."""
+    from ..errors import ImageFormatError
+    from ..io import SUPPORTED_EXTENSIONS
+
+    if path.suffix.lower() not in SUPPORTED_EXTENSIONS:
+        allowed = ", ".join(SUPPORTED_EXTENSIONS)
+        raise ImageFormatError(
+            f"cannot write '{path}': unknown extension {path.suffix or '(none)'!r}; "
+            f"use one of {allowed}"
+        )
+
+
+def _render(
+    input: Path, render: RenderOptions, forward: Any, command: str, src: Any = None
+) -> None:
+    """Read INPUT (unless ``src`` has it), push it forward by ``forward``, write the result."""
+    from ..render import warp
+    from ._common import load_input, output_path, save_output
+
+    if src is None:
+        src = load_input(input, render)
+    check_output_suffix(output_path(render, src.path, command))  # refuse a bad output early
+    out = warp(src.pixels, forward.inverse(), **render.warp_kwargs(src.pixels))
+    save_output(out, src, render, command=command)
+
+
+@click.command(
+    epilog=example(
+        "spherewarp rotate room.jpg --yaw 90 -o room-right.jpg",
+        "spherewarp rotate room.jpg --yaw 30 --pitch -10 --roll 5 -o tilted.jpg",
+        "spherewarp rotate room.jpg --axis -163,5 --angle 45 -o turned.png",
+    )
+)
+@input_argument
+@click.option("--yaw", type=ANGLE, help="Turn the view right by DEG (ffmpeg v360 yaw).")
+@click.option("--pitch", type=ANGLE, help="Turn the view up by DEG (ffmpeg v360 pitch).")
+@click.option("--roll", type=ANGLE, help="Roll the view clockwise by DEG (ffmpeg v360 roll).")
+@click.option(
+    "--axis",
+    type=POINT,
+    help="Rotate the content about this point LON,LAT (degrees); use with --angle.",
+)
+@click.option(
+    "--angle",
+    type=ANGLE,
+    help="With --axis: turn the content DEG counter-clockwise about the axis, "
+    "as seen from the centre of the sphere looking at it.",
+)
+@click.option("--print", "print_map", is_flag=True, help=_PRINT_HELP)
+@render_options
+def rotate(
+    input: Path,
+    render: RenderOptions,
+    yaw: float | None,
+    pitch: float | None,
+    roll: float | None,
+    axis: tuple[float, float] | None,
+    angle: float | None,
+    print_map: bool,
+) -> None:
+    """Rotate a 360° image: turn the view (yaw/pitch/roll) or the content about an axis.
+
+    --yaw/--pitch/--roll turn the view the way ffmpeg's v360 filter does
+    (yaw, then pitch, then roll): --yaw 90 brings what was at longitude +90
+    (the right) to the centre. --axis/--angle turn the content about a point
+    instead. Give one form or the other.
+    """
+    from ..maps import Mobius
+
+    ypr = (yaw, pitch, roll)
+    uses_ypr = any(v is not None for v in ypr)
+    uses_axis = axis is not None or angle is not None
+    if uses_ypr and uses_axis:
+        raise click.UsageError("give either --yaw/--pitch/--roll or --axis with --angle, not both")
+    if not (uses_ypr or uses_axis):
+        raise click.UsageError("nothing to do: give --yaw/--pitch/--roll, or --axis and --angle")
+    if uses_axis:
+        if axis is None or angle is None:
+            missing = "--axis" if axis is None else "--angle"
+            raise click.UsageError(f"--axis and --angle go together; {missing} is missing")
+        forward = Mobius.rotation(axis, angle)
+    else:
+        y, p, r = (0.0 if v is None else v for v in ypr)
+        forward = Mobius.from_yaw_pitch_roll(y, p, r).inverse()
+    if print_map:
+        click.echo(forward.to_json())
+        return
+    _render(input, render, forward, "rotate")
+
+
+@click.command(
+    epilog=example(
+        "spherewarp zoom room.jpg --at -163,5 --factor 3 -o picture.jpg",
+        "spherewarp zoom room.jpg --at-pixel 47,243 --factor 3 --center -o picture.jpg",
+    )
+)
+@input_argument
+@click.option("--at", type=POINT, help="The point to zoom toward, LON,LAT in degrees.")
+@click.option(
+    "--at-pixel",
+    type=PIXEL,
+    help="The point to zoom toward as a pixel X,Y of INPUT (origin at the top-left "
+    "corner; 512,256 is the centre of a 1024x512 image).",
+)
+@click.option(
+    "--factor",
+    type=FACTOR,
+    required=True,
+    help="Magnification at the point (> 0); its antipode shrinks by the same factor.",
+)
+@click.option("--center", is_flag=True, help="Also turn the zoom point to the image centre.")
+@click.option("--print", "print_map", is_flag=True, help=_PRINT_HELP)
+@render_options
+def zoom(
+    input: Path,
+    render: RenderOptions,
+    at: tuple[float, float] | None,
+    at_pixel: tuple[float, float] | None,
+    factor: float,
+    center: bool,
+    print_map: bool,
+) -> None:
+    """Zoom into a 360° image toward a point (a hyperbolic Möbius map).
+
+    The content at the point is magnified FACTOR times and the content at the
+    opposite point shrinks FACTOR times; both points stay where they are
+    (unless --center). The map is conformal: shapes stay undistorted in the
+    small.
+    """
+    from ..maps import Mobius
+
+    if (at is None) == (at_pixel is None):
+        raise click.UsageError("give exactly one of --at LON,LAT and --at-pixel X,Y")
+    src = None
+    if at_pixel is not None:
+        import numpy as np
+
+        from .. import coords
+        from ._common import load_input
+
+        src = load_input(input, render)
+        h, w = src.pixels.shape[:2]
+        x, y = at_pixel
+        if not (0 <= x <= w and 0 <= y <= h):
+            raise click.BadParameter(
+                f"expected a pixel inside the {w}x{h} input (0..{w}, 0..{h}), got {x:g},{y:g}",
+                param_hint="'--at-pixel'",
+            )
+        lon, lat = np.degrees(coords.lonlat_from_pixel(np.array([x, y]), w, h))
+        at = (float(lon), float(lat))
+    forward = Mobius.zoom(at, factor)
+    if center:
+        forward = Mobius.rotation_to(at, (0.0, 0.0)) @ forward
+    if print_map:
+        click.echo(forward.to_json())
+        return
+    _render(input, render, forward, "zoom", src)
+
+
+@click.command(
+    epilog=example(
+        "spherewarp mobius room.jpg --matrix 1,0.5,0,1 -o shifted.jpg",
+        "spherewarp mobius room.jpg --matrix '1+1j,0,0,1-1j' -o spiral.jpg",
+        "spherewarp mobius room.jpg --from 0,0 90,0 0,90 --to 0,0 60,0 0,60 -o squeezed.jpg",
+    )
+)
+@input_argument
+@click.option(
+    "--matrix",
+    type=MATRIX,
+    help="Push the content forward by z -> (az+b)/(cz+d) in the default chart "
+    "(0 at the zenith, -1 at the front, 1 at the back, inf at the nadir); entries like "
+    "1+2j or 0.5i.",
+)
+@click.option(
+    "--from",
+    "from_points",
+    type=POINT,
+    nargs=3,
+    metavar="P1 P2 P3",
+    help="Three distinct points LON,LAT; with --to: the content at each moves to the "
+    "matching --to point.",
+)
+@click.option(
+    "--to", "to_points", type=POINT, nargs=3, metavar="Q1 Q2 Q3", help="Three distinct points."
+)
+@click.option("--print", "print_map", is_flag=True, help=_PRINT_HELP)
+@render_options
+def mobius(
+    input: Path,
+    render: RenderOptions,
+    matrix: tuple[complex, ...] | None,
+    from_points: tuple[tuple[float, float], ...] | None,
+    to_points: tuple[tuple[float, float], ...] | None,
+    print_map: bool,
+) -> None:
+    """Apply any Möbius transformation: a matrix, or three points to three points.
+
+    Content at p moves to M(p). With --from/--to the map is the unique
+    Möbius transformation sending each --from point to its --to point.
+    """
+    from ..errors import InvalidValueError
+    from ..maps import Mobius
+
+    from_points = from_points or None
+    to_points = to_points or None
+    uses_points = from_points is not None or to_points is not None
+    if matrix is not None and uses_points:
+        raise click.UsageError("give either --matrix or --from/--to, not both")
+    if matrix is None and not uses_points:
+        raise click.UsageError(
+            "nothing to do: give --matrix a,b,c,d or --from P1 P2 P3 --to Q1 Q2 Q3"
+        )
+    if matrix is not None:
+        a, b, c, d = matrix
+        try:
+            forward = Mobius([[a, b], [c, d]])
+        except InvalidValueError as exc:
+            raise InvalidValueError(f"--matrix: {exc}") from None
+    else:
+        if from_points is None or to_points is None:
+            missing = "--from" if from_points is None else "--to"
+            raise click.UsageError(f"--from and --to go together; {missing} is missing")
+        _check_distinct(from_points, "--from")
+        _check_distinct(to_points, "--to")
+        forward = Mobius.from_points(list(from_points), list(to_points))
+    if print_map:
+        click.echo(forward.to_json())
+        return
+    _render(input, render, forward, "mobius")
+
+
+def _check_distinct(points: tuple[tuple[float, float], ...], option: str) -> None:
+    """Raise unless the three LON,LAT points are distinct points of the sphere."""
+    import numpy as np
+
+    from .. import coords
+    from ..errors import InvalidValueError
+
+    xyz = coords.xyz_from_lonlat(np.radians(np.asarray(points, dtype=np.float64)))
+    for i, j in ((0, 1), (0, 2), (1, 2)):
+        if np.linalg.norm(xyz[i] - xyz[j]) < 1e-9:
+            p, q = points[i], points[j]
+            raise InvalidValueError(
+                f"{option}: expected three distinct points, got the same point twice "
+                f"(point {i + 1} = {p[0]:g},{p[1]:g} and point {j + 1} = {q[0]:g},{q[1]:g})"
+            )

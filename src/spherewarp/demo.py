@@ -1,0 +1,257 @@
+"""The demo: a few effects on the bundled sample panorama, written into a folder.
+
+``spherewarp demo [DIR]`` (or :func:`run_demo`) renders every effect of
+:data:`DEMO_EFFECTS` and writes each as ``NN-name.png`` into ``DIR``. The
+effects are plain data, a name, a description and a function of
+:class:`DemoInputs` returning an image, so later effects are added with
+``DEMO_EFFECTS.append(DemoEffect(...))``.
+
+The sample is ``interior.png`` (a hotel room, CC0, see ``data/LICENSE.md``);
+the framed picture on its wall is at :data:`PICTURE`.
+
+Examples
+--------
+>>> import tempfile
+>>> from spherewarp.demo import run_demo
+>>> paths = run_demo(tempfile.mkdtemp(), size=(128, 64), echo=None)
+>>> [p.name for p in paths][:3]
+['01-original.png', '02-testpattern.png', '03-rotate-view.png']
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from importlib.resources import files
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .errors import InvalidValueError, OutputExistsError
+from .maps import Mobius, SphereMap
+
+__all__ = [
+    "DEMO_EFFECTS",
+    "PICTURE",
+    "DemoEffect",
+    "DemoInputs",
+    "run_demo",
+    "sample_path",
+]
+
+#: LON,LAT (degrees) of the framed picture on the wall of the sample ``interior.png``.
+PICTURE: tuple[float, float] = (-163.0, 5.0)
+#: the TV and the window of the sample
+_TV = (-65.0, 2.0)
+_WINDOW = (38.0, 2.0)
+
+
+def sample_path(name: str = "interior.png") -> Path:
+    """Path of a bundled sample panorama (``interior.png``, ``courtyard.png``, ...).
+
+    Examples
+    --------
+    >>> sample_path().name
+    'interior.png'
+    """
+    path = files("spherewarp") / "data" / name
+    if not path.is_file():
+        raise InvalidValueError(f"no bundled sample named {name!r}")
+    return Path(str(path))
+
+
+@dataclass(frozen=True)
+class DemoInputs:
+    """What a demo effect gets: the sample, the test pattern and the render settings.
+
+    Attributes
+    ----------
+    sample : ndarray (H, W, 3) uint8
+        The bundled ``interior.png``.
+    pattern : ndarray (H, W, 3) uint8
+        The test pattern (:func:`spherewarp.testpattern.test_pattern`), same size.
+    output_shape : (height, width)
+        Size of the images to produce.
+    supersample : int
+        Anti-aliasing for :meth:`warp`.
+    """
+
+    sample: NDArray[np.uint8]
+    pattern: NDArray[np.uint8]
+    output_shape: tuple[int, int]
+    supersample: int = 2
+
+    def warp(self, image: NDArray, inverse_map: SphereMap, **kwargs: Any) -> NDArray:
+        """:func:`spherewarp.render.warp` at the demo's size and supersampling."""
+        from .render import warp
+
+        kwargs.setdefault("output_shape", self.output_shape)
+        kwargs.setdefault("supersample", self.supersample)
+        return warp(image, inverse_map, **kwargs)
+
+    def resize(self, image: NDArray) -> NDArray:
+        """``image`` at the output size (an identity warp)."""
+        if image.shape[:2] == self.output_shape:
+            return image
+        return self.warp(image, Mobius.identity())
+
+
+@dataclass(frozen=True)
+class DemoEffect:
+    """One image of the demo.
+
+    Attributes
+    ----------
+    name : str
+        File stem (``NN-name.png``); lower case letters, digits and ``-``.
+    description : str
+        One line for the listing.
+    render : callable
+        ``render(inputs: DemoInputs) -> ndarray`` of shape ``inputs.output_shape``.
+    """
+
+    name: str
+    description: str
+    render: Callable[[DemoInputs], NDArray]
+
+
+def _facing_picture() -> Mobius:
+    """The view turned (yaw) to face the framed picture: pull back by it."""
+    return Mobius.from_yaw_pitch_roll(yaw=PICTURE[0])
+
+
+def _zoom_picture() -> SphereMap:
+    """Pull-back of the zoom x3 toward the picture, seen facing it."""
+    return Mobius.zoom(PICTURE, 3.0).inverse() @ _facing_picture()
+
+
+DEMO_EFFECTS: list[DemoEffect] = [
+    DemoEffect("original", "the bundled sample, interior.png (CC0)", lambda d: d.resize(d.sample)),
+    DemoEffect(
+        "testpattern",
+        "the test pattern: 0 at the zenith, -1 at the front, 1 at the back, inf at the nadir",
+        lambda d: d.pattern,
+    ),
+    DemoEffect(
+        "rotate-view",
+        "rotate --yaw 120 --pitch 20 --roll 10 (ffmpeg v360 yaw/pitch/roll)",
+        lambda d: d.warp(d.sample, Mobius.from_yaw_pitch_roll(120.0, 20.0, 10.0)),
+    ),
+    DemoEffect(
+        "rotate-picture",
+        "rotate --axis -163,5 --angle 30 about the framed picture (view turned to face it)",
+        lambda d: d.warp(d.sample, Mobius.rotation(PICTURE, 30.0).inverse() @ _facing_picture()),
+    ),
+    DemoEffect(
+        "zoom-picture",
+        "zoom --at -163,5 --factor 3 toward the framed picture (view turned to face it)",
+        lambda d: d.warp(d.sample, _zoom_picture()),
+    ),
+    DemoEffect(
+        "mobius-3points",
+        "mobius --from -163,5 -65,2 38,2 --to -100,0 -40,-10 100,10: "
+        "picture, TV and window moved by one Möbius map",
+        lambda d: d.warp(
+            d.sample,
+            Mobius.from_points(
+                [PICTURE, _TV, _WINDOW], [(-100, 0), (-40, -10), (100, 10)]
+            ).inverse(),
+        ),
+    ),
+    DemoEffect(
+        "testpattern-zoom",
+        "the test pattern through the same zoom x3 (magnified 3x there, shrunk 3x opposite)",
+        lambda d: d.warp(d.pattern, _zoom_picture()),
+    ),
+]
+
+
+def run_demo(
+    directory: str | Path = "spherewarp-demo",
+    *,
+    overwrite: bool = False,
+    size: tuple[int, int] | None = None,
+    supersample: int = 2,
+    effects: Sequence[DemoEffect] | None = None,
+    echo: Callable[[str], Any] | None = print,
+) -> list[Path]:
+    """Render the demo effects on the bundled sample and write them into ``directory``.
+
+    Parameters
+    ----------
+    directory : str or Path
+        Created if missing (with its parents).
+    overwrite : bool
+        Replace existing files; otherwise an existing file is an error, raised
+        before anything is written.
+    size : (width, height), optional
+        Output size; default the sample's (1024x512).
+    supersample : int
+        Anti-aliasing of the warps (N x N samples per pixel).
+    effects : sequence of DemoEffect, optional
+        Default :data:`DEMO_EFFECTS`.
+    echo : callable or None
+        Called with one line per file written and a summary; None is silent.
+
+    Returns
+    -------
+    list of Path
+        The files written, in order.
+
+    Raises
+    ------
+    OutputExistsError
+        If a file exists and ``overwrite`` is false (nothing is written).
+    """
+    from .io import read_image, write_image
+    from .testpattern import test_pattern
+
+    start = time.perf_counter()
+    effects = list(DEMO_EFFECTS if effects is None else effects)
+    out_dir = Path(directory)
+    if out_dir.exists() and not out_dir.is_dir():
+        raise InvalidValueError(f"'{out_dir}' exists and is not a directory")
+    targets = [out_dir / f"{k:02d}-{e.name}.png" for k, e in enumerate(effects, start=1)]
+    if not overwrite:
+        existing = [p for p in targets if p.exists()]
+        if existing:
+            more = f" (and {len(existing) - 1} more)" if len(existing) > 1 else ""
+            raise OutputExistsError(
+                f"'{existing[0]}' exists{more}; pass --overwrite (overwrite=True) to replace "
+                "the demo's files, or choose another directory"
+            )
+
+    src = read_image(sample_path())
+    h, w = src.pixels.shape[:2]
+    if size is not None:
+        w, h = (int(v) for v in size)
+    inputs = DemoInputs(
+        sample=src.pixels,
+        pattern=test_pattern(w, h),
+        output_shape=(h, w),
+        supersample=supersample,
+    )
+    out_dir.mkdir(parents=True, exist_ok=True)
+    written = []
+    for target, effect in zip(targets, effects, strict=True):
+        pixels = effect.render(inputs)
+        write_image(
+            target,
+            pixels,
+            icc_profile=src.icc_profile,
+            exif=src.exif,
+            gpano=True,
+            overwrite=overwrite,
+        )
+        written.append(target)
+        if echo is not None:
+            echo(f"wrote {target}  ({effect.description})")
+    if echo is not None:
+        echo(
+            f"{len(written)} images in {out_dir}/ in {time.perf_counter() - start:.1f} s "
+            "(open them in any 360° viewer; they carry GPano metadata)"
+        )
+    return written

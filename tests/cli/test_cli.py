@@ -1,0 +1,467 @@
+"""The command line: every subcommand on small images, against the Python API."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from spherewarp import coords
+from spherewarp.cli import COMMANDS, main
+from spherewarp.io import GPano, read_image, write_image
+from spherewarp.maps import Mobius, map_from_json
+from spherewarp.render import warp
+from spherewarp.testpattern import test_pattern
+
+W, H = 128, 64
+
+
+def run(capsys: pytest.CaptureFixture[str], *args: object) -> tuple[int, str, str]:
+    """Run ``spherewarp ARGS`` in-process: (exit status, stdout, stderr)."""
+    try:
+        main([str(a) for a in args])
+        code = 0
+    except SystemExit as exc:
+        code = exc.code if isinstance(exc.code, int) else 1
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def ok(capsys: pytest.CaptureFixture[str], *args: object) -> str:
+    code, out, err = run(capsys, *args)
+    assert code == 0, err
+    return out
+
+
+@pytest.fixture
+def workdir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+@pytest.fixture
+def pattern_png(workdir: Path) -> Path:
+    """A 128x64 test pattern (no labels) as an 8-bit PNG."""
+    return write_image(workdir / "in.png", test_pattern(W, labels=False))
+
+
+def pushed(image: np.ndarray, forward: Mobius, **kw: object) -> np.ndarray:
+    return warp(image, forward.inverse(), **kw)
+
+
+# ---------------------------------------------------------------- help and wiring
+
+
+def test_top_level_help_lists_every_command(capsys):
+    out = ok(capsys, "--help")
+    for name in COMMANDS:
+        assert name in out
+
+
+@pytest.mark.parametrize("command", sorted(COMMANDS))
+def test_every_command_help_shows_an_example(capsys, command):
+    out = ok(capsys, command, "--help")
+    assert "Example" in out
+    assert f"spherewarp {command} " in out.split("Example", 1)[1]
+
+
+@pytest.mark.parametrize("command", ["rotate", "zoom", "mobius"])
+def test_render_commands_have_the_common_options(capsys, command):
+    out = ok(capsys, command, "--help")
+    for option in ("--output", "--overwrite", "--force", "--size", "--interp", "--supersample"):
+        assert option in out
+    assert "--quality" in out and "--print" in out
+
+
+def test_version(capsys):
+    assert "version" in ok(capsys, "--version").lower()
+
+
+# ---------------------------------------------------------------- rotate
+
+
+@pytest.mark.parametrize("yaw, shift", [(90, -W // 4), (-90, W // 4), (180, W // 2)])
+def test_rotate_yaw_is_a_roll_of_the_columns(capsys, pattern_png, yaw, shift):
+    # --yaw 90 looks right: lon +90 comes to the centre, the columns move left by W/4.
+    ok(capsys, "rotate", pattern_png, "--yaw", yaw, "-o", "out.png")
+    src = read_image(pattern_png).pixels
+    out = read_image("out.png").pixels
+    np.testing.assert_array_equal(out, np.roll(src, shift, axis=1))
+
+
+def test_rotate_yaw_brings_lon_90_to_the_centre(capsys, pattern_png):
+    out = json.loads(ok(capsys, "rotate", pattern_png, "--yaw", 90, "--print"))
+    forward = map_from_json(json.dumps(out))
+    np.testing.assert_allclose(forward.apply_lonlat([90.0, 0.0]), [0.0, 0.0], atol=1e-9)
+
+
+def test_rotate_about_the_zenith_moves_the_content_east(capsys, pattern_png):
+    # Counter-clockwise about the zenith as seen from the centre: content moves to larger lon.
+    ok(capsys, "rotate", pattern_png, "--axis", "0,90", "--angle", 90, "-o", "out.png")
+    src = read_image(pattern_png).pixels
+    np.testing.assert_array_equal(read_image("out.png").pixels, np.roll(src, W // 4, axis=1))
+
+
+def test_rotate_ypr_matches_the_api(capsys, pattern_png):
+    ok(capsys, "rotate", pattern_png, "--yaw", 30, "--pitch", -20, "--roll", 10, "-o", "out.png")
+    src = read_image(pattern_png).pixels
+    expected = warp(src, Mobius.from_yaw_pitch_roll(30, -20, 10))
+    np.testing.assert_array_equal(read_image("out.png").pixels, expected)
+
+
+def test_rotate_axis_angle_matches_the_api(capsys, pattern_png):
+    ok(capsys, "rotate", pattern_png, "--axis", "-40,25", "--angle", 33, "-o", "out.png")
+    src = read_image(pattern_png).pixels
+    expected = pushed(src, Mobius.rotation((-40, 25), 33))
+    np.testing.assert_array_equal(read_image("out.png").pixels, expected)
+
+
+def test_rotate_pitch_alone_defaults_the_others(capsys, pattern_png):
+    ok(capsys, "rotate", pattern_png, "--pitch", 15, "-o", "out.png")
+    expected = warp(read_image(pattern_png).pixels, Mobius.from_yaw_pitch_roll(0, 15, 0))
+    np.testing.assert_array_equal(read_image("out.png").pixels, expected)
+
+
+def test_default_output_name(capsys, pattern_png):
+    out = ok(capsys, "rotate", pattern_png, "--yaw", 10)
+    assert Path("in-rotate.png").is_file()
+    assert "in-rotate.png" in out
+
+
+def test_overwrite_replaces(capsys, pattern_png):
+    ok(capsys, "rotate", pattern_png, "--yaw", 10, "-o", "out.png")
+    first = Path("out.png").read_bytes()
+    ok(capsys, "rotate", pattern_png, "--yaw", 40, "-o", "out.png", "--overwrite")
+    assert Path("out.png").read_bytes() != first
+
+
+@pytest.mark.parametrize("interp", ["nearest", "bilinear", "bicubic", "BICUBIC"])
+def test_interp_supersample_and_size(capsys, pattern_png, interp):
+    ok(
+        capsys,
+        "rotate",
+        pattern_png,
+        "--yaw",
+        17,
+        "-o",
+        "out.png",
+        "--interp",
+        interp,
+        "--supersample",
+        2,
+        "--size",
+        "64x32",
+    )
+    src = read_image(pattern_png).pixels
+    expected = warp(
+        src,
+        Mobius.from_yaw_pitch_roll(17, 0, 0),
+        interp=interp.lower(),
+        supersample=2,
+        output_shape=(32, 64),
+    )
+    out = read_image("out.png")
+    np.testing.assert_array_equal(out.pixels, expected)
+    assert (out.gpano.full_width, out.gpano.full_height) == (64, 32)
+
+
+# ---------------------------------------------------------------- zoom
+
+
+def test_zoom_matches_the_api(capsys, pattern_png):
+    ok(capsys, "zoom", pattern_png, "--at", "30,20", "--factor", 2.5, "-o", "out.png")
+    expected = pushed(read_image(pattern_png).pixels, Mobius.zoom((30, 20), 2.5))
+    np.testing.assert_array_equal(read_image("out.png").pixels, expected)
+
+
+def test_zoom_at_pixel_is_zoom_at_its_lonlat(capsys, pattern_png):
+    x, y = 40.0, 20.0
+    lon, lat = np.degrees(coords.lonlat_from_pixel([x, y], W, H))
+    ok(capsys, "zoom", pattern_png, "--at-pixel", f"{x},{y}", "--factor", 3, "-o", "a.png")
+    ok(
+        capsys,
+        "zoom",
+        pattern_png,
+        "--at",
+        f"{float(lon)!r},{float(lat)!r}",
+        "--factor",
+        3,
+        "-o",
+        "b.png",
+    )
+    np.testing.assert_array_equal(read_image("a.png").pixels, read_image("b.png").pixels)
+    forward = map_from_json(
+        ok(capsys, "zoom", pattern_png, "--at-pixel", f"{x},{y}", "--factor", 3, "--print")
+    )
+    assert forward == Mobius.zoom((lon, lat), 3)
+
+
+def test_zoom_center_brings_the_point_to_the_front(capsys, pattern_png):
+    forward = map_from_json(
+        ok(capsys, "zoom", pattern_png, "--at", "-120,30", "--factor", 2, "--center", "--print")
+    )
+    np.testing.assert_allclose(forward.apply_lonlat([-120.0, 30.0]), [0.0, 0.0], atol=1e-9)
+    assert forward.local_scale(coords.cp1_from_lonlat(np.radians([-120.0, 30.0]))) == (
+        pytest.approx(2.0)
+    )
+
+
+def test_zoom_magnifies_the_content(capsys, workdir):
+    # The -1 disc at the front (a cap of radius r) comes out with radius 2 atan(4 tan(r/2)).
+    w = 512
+    write_image("big.png", test_pattern(w, labels=False))
+    ok(capsys, "zoom", "big.png", "--at", "0,0", "--factor", 4, "-o", "out.png")
+    # The pattern's colours (disc, rim, equator, meridian, checker): each pixel is classified
+    # by the nearest, so anti-aliased edges split at 50% coverage.
+    palette = np.array(
+        [
+            [230, 77, 191],
+            [20, 20, 26],
+            [26, 84, 217],
+            [217, 31, 31],
+            [251, 246, 233],
+            [231, 221, 199],
+            [236, 242, 249],
+            [204, 215, 230],
+        ]
+    )
+
+    def disc_width(img):  # pixels of the disc's colour along the two rows at the equator
+        row = img[w // 4 - 1 : w // 4 + 1].astype(float)
+        nearest = np.argmin(np.linalg.norm(row[..., None, :] - palette, axis=-1), axis=-1)
+        return np.sum(nearest == 0) / 2
+
+    before = disc_width(read_image("big.png").pixels)
+    after = disc_width(read_image("out.png").pixels)
+    r = np.radians(before / 2 * 360 / w)
+    expected = 2 * np.degrees(np.arctan(4 * np.tan(r / 2))) * 2 * w / 360
+    assert before >= 6
+    assert after == pytest.approx(expected, rel=0.1)
+
+
+# ---------------------------------------------------------------- mobius
+
+
+def test_mobius_matrix_pushes_forward(capsys, pattern_png):
+    ok(capsys, "mobius", pattern_png, "--matrix", "1+1j,0.5i,0,1-1j", "-o", "out.png")
+    m = Mobius([[1 + 1j, 0.5j], [0, 1 - 1j]])
+    expected = pushed(read_image(pattern_png).pixels, m)
+    np.testing.assert_array_equal(read_image("out.png").pixels, expected)
+
+
+def test_mobius_matrix_print(capsys, pattern_png):
+    forward = map_from_json(ok(capsys, "mobius", pattern_png, "--matrix", "1,0.5,0,1", "--print"))
+    assert forward == Mobius([[1, 0.5], [0, 1]])
+    assert complex(forward(1j)) == pytest.approx(0.5 + 1j)
+    assert not Path("in-mobius.png").exists()
+
+
+def test_mobius_three_points(capsys, pattern_png):
+    p = [(0, 0), (90, 0), (0, 90)]
+    q = [(10, 5), (60, -10), (-30, 70)]
+    args = ["--from", *(f"{a},{b}" for a, b in p), "--to", *(f"{a},{b}" for a, b in q)]
+    forward = map_from_json(ok(capsys, "mobius", pattern_png, *args, "--print"))
+    for a, b in zip(p, q, strict=True):
+        moved = coords.xyz_from_lonlat(np.radians(forward.apply_lonlat(np.asarray(a, float))))
+        np.testing.assert_allclose(moved, coords.xyz_from_lonlat(np.radians(b)), atol=1e-9)
+    ok(capsys, "mobius", pattern_png, *args, "-o", "out.png")
+    expected = pushed(read_image(pattern_png).pixels, Mobius.from_points(p, q))
+    np.testing.assert_array_equal(read_image("out.png").pixels, expected)
+
+
+# ---------------------------------------------------------------- formats, dtypes, metadata
+
+
+@pytest.mark.parametrize(
+    "ext, fmt, dtype",
+    [
+        (".png", "PNG", np.uint8),
+        (".jpg", "JPEG", np.uint8),
+        (".tif", "TIFF", np.uint8),
+        (".webp", "WEBP", np.uint8),
+        (".exr", "EXR", np.float32),
+    ],
+)
+def test_output_format_from_extension(capsys, pattern_png, ext, fmt, dtype):
+    ok(capsys, "rotate", pattern_png, "--yaw", 90, "-o", f"out{ext}")
+    out = read_image(f"out{ext}")
+    assert out.format == fmt
+    assert out.pixels.dtype == dtype
+    assert out.pixels.shape == (H, W, 3)
+    assert out.gpano is not None and out.gpano.full_width == W
+
+
+def test_uint16_png_stays_uint16(capsys, workdir):
+    src = test_pattern(W, dtype=np.uint16, labels=False)
+    write_image("in16.png", src)
+    ok(capsys, "rotate", "in16.png", "--yaw", 90, "-o", "out16.png")
+    out = read_image("out16.png").pixels
+    assert out.dtype == np.uint16
+    np.testing.assert_array_equal(out, np.roll(src, -W // 4, axis=1))
+
+
+def test_exr_float32_stays_hdr(capsys, workdir):
+    src = (test_pattern(W, dtype=np.float32, labels=False) * 40.0).astype(np.float32)
+    write_image("in.exr", src)
+    ok(capsys, "zoom", "in.exr", "--at", "0,0", "--factor", 2, "-o", "out.exr")
+    out = read_image("out.exr")
+    assert out.format == "EXR" and out.pixels.dtype == np.float32
+    assert out.pixels.max() > 30.0  # no clipping to 1
+    np.testing.assert_allclose(out.pixels, pushed(src, Mobius.zoom((0, 0), 2)), rtol=1e-6)
+
+
+def test_icc_exif_and_gpano_are_carried(capsys, workdir):
+    from PIL import Image, ImageCms
+
+    icc = ImageCms.ImageCmsProfile(ImageCms.createProfile("sRGB")).tobytes()
+    exif = Image.Exif()
+    exif[0x010F] = "SpherewarpTestCam"
+    write_image("meta.png", test_pattern(W, labels=False), icc_profile=icc, exif=exif.tobytes())
+    ok(capsys, "mobius", "meta.png", "--matrix", "2,0,0,1", "-o", "out.png", "--size", "96x48")
+    out = read_image("out.png")
+    assert out.icc_profile == icc
+    assert out.exif is not None and b"SpherewarpTestCam" in out.exif
+    assert out.gpano == GPano.full_sphere(96, 48)
+    ok(capsys, "rotate", "meta.png", "--yaw", 5, "-o", "out.jpg")
+    jpg = read_image("out.jpg")
+    assert jpg.icc_profile == icc and b"SpherewarpTestCam" in jpg.exif
+
+
+def test_grey_and_alpha_images(capsys, workdir, random_image):
+    for channels in (1, 2, 4):
+        img = random_image(height=H, channels=channels, seed=channels)
+        write_image(f"c{channels}.png", img)
+        ok(capsys, "rotate", f"c{channels}.png", "--yaw", -90, "-o", f"o{channels}.png")
+        out = read_image(f"o{channels}.png").pixels
+        np.testing.assert_array_equal(out, np.roll(img, W // 4, axis=1))
+
+
+# ---------------------------------------------------------------- testpattern, info, demo
+
+
+def test_testpattern_command(capsys, workdir):
+    ok(capsys, "testpattern", "-o", "tp.png", "--size", "256x128")
+    img = read_image("tp.png")
+    assert img.pixels.shape == (128, 256, 3) and img.pixels.dtype == np.uint8
+    np.testing.assert_array_equal(img.pixels, test_pattern(256))
+    assert img.gpano == GPano.full_sphere(256, 128)
+    ok(
+        capsys,
+        "testpattern",
+        "-o",
+        "tp16.png",
+        "--size",
+        "64x32",
+        "--dtype",
+        "uint16",
+        "--chart",
+        "FRONT",
+        "--no-labels",
+    )
+    img = read_image("tp16.png").pixels
+    np.testing.assert_array_equal(img, test_pattern(64, chart="front", dtype=np.uint16))
+    ok(capsys, "testpattern", "-o", "tp.exr", "--size", "64x32", "--dtype", "float32")
+    assert read_image("tp.exr").pixels.dtype == np.float32
+
+
+def test_testpattern_default_output_and_overwrite(capsys, workdir):
+    ok(capsys, "testpattern", "--size", "64x32")
+    assert Path("testpattern.png").is_file()
+    code, _, err = run(capsys, "testpattern", "--size", "64x32")
+    assert code == 2 and "--overwrite" in err
+    ok(capsys, "testpattern", "--size", "64x32", "--overwrite")
+
+
+def test_info_text_and_json(capsys, workdir):
+    src = (test_pattern(64, dtype=np.float32, labels=False) * 8).astype(np.float32)
+    write_image("a.exr", src)
+    text = ok(capsys, "info", "a.exr")
+    for needle in ("EXR", "64x32", "float32", "2:1", "equirectangular", "RGB"):
+        assert needle in text
+    data = json.loads(ok(capsys, "info", "a.exr", "--json"))
+    assert data["format"] == "EXR" and data["dtype"] == "float32"
+    assert (data["width"], data["height"], data["channels"]) == (64, 32, 3)
+    assert data["equirectangular_2to1"] is True
+    assert data["value_range"]["R"]["max"] == pytest.approx(float(src[..., 0].max()))
+    assert data["gpano"]["projection"] == "equirectangular"
+
+
+def test_info_reports_crop_icc_and_non_2to1(capsys, workdir):
+    from PIL import ImageCms
+
+    icc = ImageCms.ImageCmsProfile(ImageCms.createProfile("sRGB")).tobytes()
+    crop = GPano(
+        full_width=200,
+        full_height=100,
+        cropped_width=200,
+        cropped_height=40,
+        cropped_left=0,
+        cropped_top=30,
+    )
+    write_image("crop.png", np.full((40, 200, 3), 7, np.uint8), gpano=crop, icc_profile=icc)
+    data = json.loads(ok(capsys, "info", "crop.png", "--json"))
+    assert data["gpano"]["cropped"] is True
+    assert data["gpano"]["full_size"] == [200, 100]
+    assert data["gpano"]["cropped_left_top"] == [0, 30]
+    assert data["equirectangular_2to1"] is False
+    assert data["icc_profile"]["bytes"] == len(icc)
+    assert data["value_range"]["G"] == {"min": 7, "max": 7}
+    text = ok(capsys, "info", "crop.png")
+    assert "cropped 200x40 at 0,30" in text and "--force" in text
+
+
+def test_demo_command(capsys, workdir):
+    out = ok(capsys, "demo", "d", "--size", "128x64", "--supersample", "1")
+    files = sorted(Path("d").glob("*.png"))
+    assert len(files) >= 7
+    assert out.count("wrote ") == len(files)
+    code, _, err = run(capsys, "demo", "d", "--size", "128x64")
+    assert code == 2 and "--overwrite" in err and err.count("\n") == 1
+    ok(capsys, "demo", "d", "--size", "128x64", "--supersample", "1", "--overwrite")
+
+
+# ---------------------------------------------------------------- the installed script
+
+
+def _script() -> str:
+    found = shutil.which("spherewarp", path=str(Path(sys.executable).parent)) or shutil.which(
+        "spherewarp"
+    )
+    if found is None:
+        pytest.skip("the spherewarp console script is not installed")
+    return found
+
+
+def test_console_script_runs(workdir):
+    script = _script()
+    write_image("in.png", test_pattern(W, labels=False))
+    done = subprocess.run(
+        [script, "rotate", "in.png", "--yaw", "90", "-o", "out.png"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "wrote out.png"
+    src = read_image("in.png").pixels
+    np.testing.assert_array_equal(read_image("out.png").pixels, np.roll(src, -W // 4, axis=1))
+
+
+def test_console_script_bad_input_is_one_line(workdir):
+    script = _script()
+    Path("bad.png").write_bytes(b"\x89PNG\r\n\x1a\n" + b"garbage" * 20)
+    done = subprocess.run(
+        [script, "zoom", "bad.png", "--at", "0,0", "--factor", "2"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 2
+    assert done.stderr.startswith("spherewarp: error:") and done.stderr.count("\n") == 1
+    assert "Traceback" not in done.stderr
+    assert not Path("bad-zoom.png").exists()
