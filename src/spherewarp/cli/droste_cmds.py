@@ -1,0 +1,350 @@
+"""``spherewarp droste``: straight and twisted Droste images from a picture frame.
+
+The command names the frame (its corners, a mask or a round radius), builds
+the Droste map with :mod:`spherewarp.droste` and renders it with the one
+pull-back renderer. ``--frames N`` renders a seamless zoom loop as numbered
+images; ``--view log`` writes the log-plane picture instead, with the period
+rectangle drawn.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import click
+
+from ._common import POINT, RenderOptions, example, input_argument, render_options
+
+__all__ = ["droste", "frame_paths"]
+
+
+class ScaleType(click.ParamType):
+    """``auto`` or a number > 1."""
+
+    name = "LAMBDA|auto"
+
+    def convert(self, value: Any, param: Any, ctx: Any) -> float | str:
+        if isinstance(value, float) or value == "auto":
+            return value
+        text = str(value).strip().lower()
+        if text == "auto":
+            return "auto"
+        try:
+            v = float(text)
+        except ValueError:
+            self.fail(f"expected a scale > 1 (e.g. 8) or 'auto', got {value!r}", param, ctx)
+        if not (math.isfinite(v) and v > 1):
+            self.fail(
+                f"expected a Droste scale > 1 (the annulus runs from the frame to the frame "
+                f"scaled by it), got {value!r}",
+                param,
+                ctx,
+            )
+        return v
+
+
+class DegreesType(click.ParamType):
+    """A finite number of degrees."""
+
+    name = "DEG"
+
+    def convert(self, value: Any, param: Any, ctx: Any) -> float:
+        if isinstance(value, float):
+            return value
+        try:
+            v = float(str(value).strip())
+        except ValueError:
+            self.fail(f"expected degrees (e.g. 12.5), got {value!r}", param, ctx)
+        if not math.isfinite(v):
+            self.fail(f"expected a finite number of degrees, got {value!r}", param, ctx)
+        return v
+
+
+SCALE = ScaleType()
+DEGREES = DegreesType()
+
+
+def frame_paths(output: Path, n: int) -> list[Path]:
+    """The file names of ``n`` frames for ``-o OUTPUT``.
+
+    ``OUT.png`` gives ``OUT_0000.png``, ``OUT_0001.png`` ...; a pattern with
+    ``%d``/``%04d`` or ``{}``/``{:04d}`` is filled in with the frame number
+    (``frames/%04d.png`` puts them into a directory, created if missing).
+
+    Examples
+    --------
+    >>> [p.as_posix() for p in frame_paths(Path("loop.png"), 2)]
+    ['loop_0000.png', 'loop_0001.png']
+    >>> frame_paths(Path("f/x-%03d.exr"), 1)[0].as_posix()
+    'f/x-000.exr'
+    """
+    from ..errors import InvalidValueError
+
+    text = str(output)
+    try:
+        if "%" in text:
+            names = [text % k for k in range(n)]
+        elif "{" in text:
+            names = [text.format(k) for k in range(n)]
+        else:
+            return [output.with_name(f"{output.stem}_{k:04d}{output.suffix}") for k in range(n)]
+    except (TypeError, ValueError, IndexError, KeyError):
+        raise InvalidValueError(
+            f"expected a frame pattern like out_%04d.png or out_{{:04d}}.png, got {text!r}"
+        ) from None
+    if len(set(names)) != n:
+        raise InvalidValueError(f"the pattern {text!r} gives the same name to several frames")
+    return [Path(s) for s in names]
+
+
+def _check_suffix(path: Path) -> None:
+    from ..errors import ImageFormatError
+    from ..io import SUPPORTED_EXTENSIONS
+
+    if path.suffix.lower() not in SUPPORTED_EXTENSIONS:
+        raise ImageFormatError(
+            f"cannot write '{path}': unknown extension {path.suffix or '(none)'!r}; "
+            f"use one of {', '.join(SUPPORTED_EXTENSIONS)}"
+        )
+
+
+@click.command(
+    epilog=example(
+        "spherewarp droste interior.png -o droste.png "
+        "--frame -173,23.6 -153.8,24.5 -153.8,-14.8 -173,-14.2",
+        "spherewarp droste interior.png -o twisted.png --twist "
+        "--frame -173,23.6 -153.8,24.5 -153.8,-14.8 -173,-14.2",
+        "spherewarp droste room.jpg -o loop.png --center -163,5 --inner-radius 12 --frames 48",
+        "spherewarp droste room.jpg -o log.png --mask hole.png --view log",
+    )
+)
+@input_argument
+@click.option(
+    "--center",
+    type=POINT,
+    help="The point inside the frame that the copies shrink toward, LON,LAT "
+    "(default with --frame: the middle of the corners; with --mask: the centroid).",
+)
+@click.option(
+    "--frame",
+    type=POINT,
+    nargs=4,
+    metavar="P1 P2 P3 P4",
+    help="The four corners of the picture frame, LON,LAT each, in order round it.",
+)
+@click.option(
+    "--mask",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="An equirectangular mask image, white = the hole inside the frame.",
+)
+@click.option("--inner-radius", type=DEGREES, help="A round hole of this radius (degrees).")
+@click.option(
+    "--far",
+    type=POINT,
+    help="The second fixed point, LON,LAT (default: the antipode of the centre).",
+)
+@click.option(
+    "--scale",
+    type=SCALE,
+    default="auto",
+    show_default=True,
+    help="λ > 1: each copy is the previous one scaled by λ. 'auto' makes the portal "
+    "round the far point as large as the hole (and fits the frame plus a margin).",
+)
+@click.option(
+    "--border",
+    type=DEGREES,
+    default=0.0,
+    help="With --scale auto: width of the frame's moulding round the hole, degrees.",
+)
+@click.option(
+    "--margin", type=DEGREES, help="With --scale auto: wall kept round the frame, degrees."
+)
+@click.option("--twist", is_flag=True, help="Twisted Droste (De Smit-Lenstra, Escher).")
+@click.option(
+    "--strands",
+    type=int,
+    default=1,
+    show_default=True,
+    help="With --twist: the number of spiral arms (negative: twist the other way).",
+)
+@click.option(
+    "--periodicity",
+    type=click.IntRange(0, 1000),
+    default=1,
+    show_default=True,
+    help="With --twist: how often the picture goes round per turn.",
+)
+@click.option(
+    "--phase",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="Zoom phase t: 0 and 1 give the same image; growing t flies into the frame.",
+)
+@click.option(
+    "--frames",
+    type=click.IntRange(1, 100000),
+    help="Render N frames of a seamless zoom loop: OUT_0000.png ... (or a pattern "
+    "such as frames/%04d.png; missing directories are created).",
+)
+@click.option(
+    "--view",
+    type=click.Choice(["equirect", "log", "log-output"], case_sensitive=False),
+    default="equirect",
+    show_default=True,
+    help="'log': the input in log coordinates (the annulus strip, its copies dimmed, the "
+    "period rectangle drawn); 'log-output': the log of the result. A flat picture: "
+    "--size sets its height, --periods its width.",
+)
+@click.option(
+    "--periods",
+    type=click.FloatRange(0.1, 100),
+    default=3.0,
+    show_default=True,
+    help="With --view log: how many periods log(λ) fit across.",
+)
+@click.option(
+    "--inside",
+    type=click.Path(dir_okay=False, path_type=Path),
+    multiple=True,
+    metavar="IMG",
+    help="Another image for the copies inside the frame (repeatable: copy d shows "
+    "image d mod K of INPUT, IMG1, ...).",
+)
+@click.option("--print", "print_map", is_flag=True, help="Print the map as JSON, render nothing.")
+@render_options
+def droste(
+    input: Path,
+    render: RenderOptions,
+    center: tuple[float, float] | None,
+    frame: tuple[tuple[float, float], ...] | None,
+    mask: Path | None,
+    inner_radius: float | None,
+    far: tuple[float, float] | None,
+    scale: float | str,
+    border: float,
+    margin: float | None,
+    twist: bool,
+    strands: int,
+    periodicity: int,
+    phase: float,
+    frames: int | None,
+    view: str,
+    periods: float,
+    inside: tuple[Path, ...],
+    print_map: bool,
+) -> None:
+    """Droste effect: the room inside its own picture frame, forever.
+
+    Name the frame with --frame (its four corners), --mask (white = hole) or
+    --inner-radius (with --center). Looking into the frame you see the room
+    again, scaled by 1/λ, and again; looking away you see a flower-shaped
+    portal round the far point. --twist turns the copies into Escher's spiral.
+    """
+    from .. import droste as dr
+    from ._common import load_input, output_path, save_output
+
+    frame = frame or None
+    given = [name for name, v in (("--frame", frame), ("--mask", mask)) if v is not None]
+    if inner_radius is not None:
+        given.append("--inner-radius")
+    if len(given) != 1:
+        raise click.UsageError(
+            "name the frame with exactly one of --frame, --mask or --inner-radius"
+            + (f" (got {', '.join(given)})" if given else "")
+        )
+    if inner_radius is not None and center is None:
+        raise click.UsageError("--inner-radius needs --center")
+    if not twist and (strands != 1 or periodicity != 1):
+        raise click.UsageError("--strands and --periodicity go with --twist")
+    view = view.lower()
+    if view != "equirect" and frames is not None:
+        raise click.UsageError("--frames renders the equirectangular loop; drop --view")
+
+    if frame is not None:
+        hole = dr.hole_from_corners(list(frame), center, far=far)
+    elif mask is not None:
+        from ..io import read_image
+
+        hole = dr.hole_from_mask(read_image(mask).pixels, center, far=far)
+    else:
+        hole = dr.hole_from_radius(center, inner_radius, far=far)
+    d = dr.droste_map(
+        hole,
+        scale,
+        twist=twist,
+        strands=strands,
+        periodicity=periodicity,
+        phase=phase,
+        n_images=1 + len(inside),
+        border=border,
+        margin=margin,
+    )
+    if print_map:
+        click.echo(d.to_json())
+        return
+
+    src = load_input(input, render)
+    images = [src.pixels]
+    for path in inside:
+        extra = load_input(path, render)
+        if extra.pixels.dtype != src.pixels.dtype or extra.pixels.shape[2] != src.pixels.shape[2]:
+            from ..errors import InvalidValueError
+
+            raise InvalidValueError(
+                f"--inside {path}: expected the input's sample type and channels "
+                f"({src.pixels.dtype}, {src.pixels.shape[2]}), got {extra.pixels.dtype}, "
+                f"{extra.pixels.shape[2]}"
+            )
+        images.append(extra.pixels)
+    kwargs = render.warp_kwargs(src.pixels)
+
+    if view != "equirect":
+        from ..io import write_image
+
+        out = output_path(render, src.path, "droste-log")
+        _check_suffix(out)
+        height = render.size[1] if render.size is not None else None
+        pixels = dr.log_view(
+            images,
+            d,
+            height=height,
+            periods=periods,
+            plane="input" if view == "log" else "output",
+            interp=render.interp,
+            supersample=render.supersample,
+        )
+        written = write_image(
+            out,
+            pixels,
+            icc_profile=src.icc_profile,
+            exif=src.exif,
+            gpano=False,
+            quality=render.quality,
+            overwrite=render.overwrite,
+        )
+        click.echo(f"wrote {written} ({pixels.shape[1]}x{pixels.shape[0]} log plane)")
+        return
+
+    if frames is None:
+        _check_suffix(output_path(render, src.path, "droste"))
+        click.echo(f"droste: scale {d.scale:.4g}" + (" (auto)" if scale == "auto" else ""))
+        save_output(dr.droste_image(images, d, **kwargs), src, render, command="droste")
+        return
+
+    base = output_path(replace(render, overwrite=True), src.path, "droste")
+    paths = frame_paths(base, frames)
+    per_frame = [replace(render, output=p) for p in paths]
+    for r in per_frame:  # refuse existing files and bad names before any work
+        _check_suffix(output_path(r, src.path, "droste"))
+    for p in {p.parent for p in paths}:
+        p.mkdir(parents=True, exist_ok=True)
+    click.echo(f"droste: scale {d.scale:.4g}, {frames} frames")
+    for r, pixels in zip(
+        per_frame, dr.droste_frames(images, d, frames, start=phase, **kwargs), strict=True
+    ):
+        save_output(pixels, src, r, command="droste")
