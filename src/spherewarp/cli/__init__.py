@@ -33,6 +33,14 @@ COMMANDS: dict[str, str] = {
     "info": "misc_cmds:info",
     "demo": "misc_cmds:demo",
     "droste": "droste_cmds:droste",
+    "lattes": "elliptic_cmds:lattes",
+    "fit-rational": "elliptic_cmds:fit_rational_cmd",
+    "peirce": "elliptic_cmds:peirce",
+    "torus": "elliptic_cmds:torus",
+    "power": "branched_cmds:power",
+    "exp": "branched_cmds:exp",
+    "map": "branched_cmds:map_cmd",
+    "splitscreen": "branched_cmds:splitscreen",
 }
 
 

@@ -6,8 +6,10 @@ See :mod:`spherewarp.maps.base` for the map protocol every effect follows.
 from .base import Composite, PullBack, SphereMap, map_from_dict, map_from_json, register_map
 from .branched import ExpMap, LogMap, Power, chart_for_branch_points
 from .droste import Droste, TwistedDroste
+from .elliptic import Lattes
 from .expression import ExpressionMap, FunctionMap
 from .mobius import Mobius, as_cp1_point
+from .rational import Rational, RationalFit, fit_rational
 
 __all__ = [
     "Composite",
@@ -15,14 +17,18 @@ __all__ = [
     "ExpMap",
     "ExpressionMap",
     "FunctionMap",
+    "Lattes",
     "LogMap",
     "Mobius",
     "Power",
     "PullBack",
+    "Rational",
+    "RationalFit",
     "SphereMap",
     "TwistedDroste",
     "as_cp1_point",
     "chart_for_branch_points",
+    "fit_rational",
     "map_from_dict",
     "map_from_json",
     "register_map",

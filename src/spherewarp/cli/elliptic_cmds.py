@@ -1,0 +1,320 @@
+"""``spherewarp lattes``, ``fit-rational``, ``peirce`` and ``torus``: elliptic functions.
+
+The paper's section "Weierstrass and Schwarz–Christoffel": Lattès twists
+(rational maps from lattice multiplications), the SVD fit of rational maps,
+Peirce's quincuncial projection and toroidal images.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import click
+
+from ._common import RenderOptions, example, input_argument, render_options
+
+__all__ = ["lattes", "fit_rational_cmd", "peirce", "torus"]
+
+_LATTICE = click.Choice(["square", "hex"], case_sensitive=False)
+
+
+def _check_suffix(path: Path) -> None:
+    from ..errors import ImageFormatError
+    from ..io import SUPPORTED_EXTENSIONS
+
+    if path.suffix.lower() not in SUPPORTED_EXTENSIONS:
+        raise ImageFormatError(
+            f"cannot write '{path}': unknown extension {path.suffix or '(none)'!r}; "
+            f"use one of {', '.join(SUPPORTED_EXTENSIONS)}"
+        )
+
+
+def _save_flat(pixels: Any, source: Any, render: RenderOptions, command: str) -> Path:
+    """Write an image that is not an equirectangular panorama (no GPano metadata)."""
+    from ..io import write_image
+    from ._common import output_path
+
+    out = output_path(render, getattr(source, "path", None), command)
+    written = write_image(
+        out,
+        pixels,
+        icc_profile=getattr(source, "icc_profile", None),
+        exif=getattr(source, "exif", None),
+        gpano=False,
+        quality=render.quality,
+        overwrite=render.overwrite,
+    )
+    click.echo(f"wrote {written}")
+    return Path(written)
+
+
+def _json_of_fit(data: dict[str, Any]) -> str:
+    return json.dumps(data)
+
+
+# -- lattes ----------------------------------------------------------------------------
+@click.command(
+    epilog=example(
+        "spherewarp lattes room.jpg --lattice square --alpha 1+1j -o twist.jpg",
+        "spherewarp lattes room.jpg --lattice hex --alpha 1+w -o triple.jpg",
+        "spherewarp lattes --lattice square --alpha 2+1j --print",
+    )
+)
+@click.argument(
+    "input", type=click.Path(dir_okay=False, path_type=Path), metavar="[INPUT]", required=False
+)
+@click.option(
+    "--lattice",
+    type=_LATTICE,
+    default="square",
+    show_default=True,
+    help="Square torus Z[i] or hexagonal torus Z[w], w = exp(i pi/3).",
+)
+@click.option(
+    "--alpha",
+    required=True,
+    help="The lattice element: a Gaussian integer a+bj for --lattice square (1+1j, 2, 2+1j), "
+    "an Eisenstein integer a+bw for hex (1+w, 2, 2-w). The map has degree |alpha|^2 <= 64.",
+)
+@click.option(
+    "--exact",
+    is_flag=True,
+    help="Render through the composition p(alpha p^-1(z)) instead of the fitted rational "
+    "map (same image, slower).",
+)
+@click.option(
+    "--print",
+    "print_map",
+    is_flag=True,
+    help="Print the fitted rational map as JSON (coefficients [re, im], highest degree "
+    "first) instead of rendering; INPUT is not needed.",
+)
+@render_options
+def lattes(
+    input: Path | None,
+    render: RenderOptions,
+    lattice: str,
+    alpha: str,
+    exact: bool,
+    print_map: bool,
+) -> None:
+    """Twist a 360° image by a Lattès map: z -> p(alpha p^-1(z)).
+
+    The panorama is pulled back to the torus by the Weierstrass function p,
+    multiplied by the lattice element alpha and pushed down again (the
+    Schwarz-Christoffel map): a rational map of degree |alpha|^2 in the
+    default chart (0 at the zenith, 1 at the back). The output shows
+    |alpha|^2 copies of the input around branch points.
+    """
+    from ..errors import InvalidValueError
+    from ..maps import Lattes
+
+    try:
+        lmap = Lattes(alpha, lattice.lower(), method="exact" if exact else "rational")
+    except InvalidValueError as exc:
+        raise InvalidValueError(f"--alpha: {exc}") from None
+    if print_map:
+        data = {**lmap.rational().to_dict(), "degree": lmap.degree}
+        data["residual"] = lmap.fit_residual()
+        click.echo(_json_of_fit(data))
+        return
+    if input is None:
+        raise click.UsageError("missing INPUT (only --print works without an image)")
+    from ..render import warp
+    from ._common import load_input, output_path, save_output
+
+    src = load_input(input, render)
+    _check_suffix(output_path(render, src.path, "lattes"))
+    out = warp(src.pixels, lmap, **render.warp_kwargs(src.pixels))
+    save_output(out, src, render, command="lattes")
+
+
+# -- fit-rational ------------------------------------------------------------------------
+@click.command(
+    "fit-rational",
+    epilog=example(
+        "spherewarp fit-rational --expr '(z**2 + 1)**2 / (4*z*(z**2 - 1))'",
+        "spherewarp fit-rational --expr 'z**3 + 1/z' --degree 4",
+    ),
+)
+@click.option(
+    "--expr",
+    required=True,
+    help="A formula in z (the default chart: 0 at the zenith); see spherewarp.maps.expression.",
+)
+@click.option(
+    "--degree",
+    type=click.IntRange(1, 256),
+    help="The degree of the rational map (default: detected, up to --max-degree).",
+)
+@click.option(
+    "--max-degree",
+    type=click.IntRange(1, 256),
+    default=32,
+    show_default=True,
+    help="Largest degree tried when detecting it.",
+)
+def fit_rational_cmd(expr: str, degree: int | None, max_degree: int) -> None:
+    """Fit a rational map to a formula by the SVD and print it as JSON.
+
+    Samples the formula at points spread over the sphere and finds the
+    numerator and denominator coefficients (highest degree first, complex
+    numbers as [re, im], leading denominator coefficient 1), with the degree
+    and the residual (the largest chordal distance to the samples). A formula
+    that is not a rational map of that degree is refused.
+    """
+    from ..maps import fit_rational
+    from ..maps.expression import ExpressionMap
+
+    fmap = ExpressionMap(expr)
+    fit = fit_rational(fmap, degree, max_degree=max_degree)
+    click.echo(_json_of_fit(fit.to_dict()))
+
+
+# -- peirce -----------------------------------------------------------------------------
+@click.command(
+    epilog=example(
+        "spherewarp peirce room.jpg -o square.png --size 1024",
+        "spherewarp peirce square.png --inverse -o room-again.png --size 2048x1024",
+    )
+)
+@input_argument
+@click.option(
+    "--inverse",
+    is_flag=True,
+    help="INPUT is a Peirce quincuncial square: turn it back into an equirectangular image.",
+)
+@click.option(
+    "--lon0",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="Central meridian in degrees (PROJ's +lon_0): it runs to the bottom-left corner.",
+)
+@render_options
+def peirce(input: Path, render: RenderOptions, inverse: bool, lon0: float) -> None:
+    """Peirce's quincuncial projection: the whole sphere in a square.
+
+    The zenith is at the centre, the nadir at the four corners; conformal
+    except at four points of the equator (the midpoints of the sides). --size N
+    sets the side of the square (default 1.5 x the input's height); with
+    --inverse, --size WxH sets the equirectangular output.
+    """
+    import math
+
+    from ..errors import InvalidValueError
+    from ..projections import peirce_to_equirect, render_peirce
+    from ._common import output_path
+
+    if not math.isfinite(lon0):
+        raise click.BadParameter(f"expected a finite longitude, got {lon0!r}", param_hint="--lon0")
+    if inverse:
+        from ..io import read_image
+        from ._common import save_output
+
+        src = read_image(input)
+        h, w = src.pixels.shape[:2]
+        if h != w:
+            raise InvalidValueError(
+                f"{input}: expected a square Peirce quincuncial image, got {w}x{h}"
+            )
+        _check_suffix(output_path(render, src.path, "peirce"))
+        shape = (render.size[1], render.size[0]) if render.size else None
+        out = peirce_to_equirect(
+            src.pixels,
+            shape,
+            lon0=lon0,
+            interp=render.interp,
+            supersample=render.supersample,
+        )
+        save_output(out, src, render, command="peirce")
+        return
+    from ._common import load_input
+
+    src = load_input(input, render)
+    _check_suffix(output_path(render, src.path, "peirce"))
+    size = render.size[0] if render.size else None
+    out = render_peirce(
+        src.pixels,
+        size,
+        lon0=lon0,
+        interp=render.interp,
+        supersample=render.supersample,
+        force=render.force,
+    )
+    _save_flat(out, src, render, "peirce")
+
+
+# -- torus -------------------------------------------------------------------------------
+@click.command(
+    epilog=example(
+        "spherewarp torus room.jpg -o torus.png --lattice square --cells 2x2",
+        "spherewarp torus room.jpg -o hex.png --lattice hex --mesh torus.obj",
+    )
+)
+@input_argument
+@click.option(
+    "--lattice",
+    type=_LATTICE,
+    default="square",
+    show_default=True,
+    help="Square torus Z[i] or hexagonal torus Z[w].",
+)
+@click.option(
+    "--cells",
+    default="1x1",
+    show_default=True,
+    metavar="CXxCY",
+    help="How many cells across and down (each holds two copies of the panorama).",
+)
+@click.option(
+    "--mesh",
+    type=click.Path(dir_okay=False, path_type=Path),
+    metavar="OUT.obj",
+    help="Also write a textured torus: OUT.obj, OUT.mtl and OUT_texture.png.",
+)
+@render_options
+def torus(input: Path, render: RenderOptions, lattice: str, cells: str, mesh: Path | None) -> None:
+    """Toroidal image: pull a 360° image back to the torus by Weierstrass p.
+
+    The unit cell holds two copies of the panorama and four branch points
+    (the square cell: nadir at the corners, zenith at the centre, back at the
+    middle of the top and bottom sides, front at the middle of the left and
+    right sides). The image tiles the plane. --size W
+    sets the width (the height follows from the cells); default: the input's
+    width.
+    """
+    from ..errors import InvalidValueError, OutputExistsError
+    from ..torus import parse_cells, render_torus, render_torus_texture, write_torus_obj
+    from ._common import load_input, output_path
+
+    try:
+        cxy = parse_cells(cells)
+    except InvalidValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--cells") from None
+    if mesh is not None:
+        if mesh.suffix.lower() != ".obj":
+            raise click.BadParameter(
+                f"expected a file name ending in .obj, got {str(mesh)!r}", param_hint="--mesh"
+            )
+        if not render.overwrite:
+            for p in (mesh, mesh.with_suffix(".mtl"), mesh.with_name(mesh.stem + "_texture.png")):
+                if p.exists():
+                    raise OutputExistsError(f"{str(p)!r} exists; pass --overwrite to replace it")
+    src = load_input(input, render)
+    _check_suffix(output_path(render, src.path, "torus"))
+    lat = lattice.lower()
+    width = render.size[0] if render.size else None
+    kw = {"interp": render.interp, "supersample": render.supersample, "force": render.force}
+    out = render_torus(src.pixels, lat, cells=cxy, width=width, **kw)
+    _save_flat(out, src, render, "torus")
+    if mesh is not None:
+        texture = render_torus_texture(src.pixels, lat, cells=cxy, **kw)
+        if texture.dtype.kind == "f":  # the PNG texture: 16-bit
+            import numpy as np
+
+            texture = np.clip(np.rint(texture * 65535.0), 0, 65535).astype(np.uint16)
+        for p in write_torus_obj(mesh, texture, cells=cxy, lattice=lat, overwrite=render.overwrite):
+            click.echo(f"wrote {p}")
