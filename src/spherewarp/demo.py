@@ -166,7 +166,62 @@ DEMO_EFFECTS: list[DemoEffect] = [
         "the test pattern through the same zoom x3 (magnified 3x there, shrunk 3x opposite)",
         lambda d: d.warp(d.pattern, _zoom_picture()),
     ),
+    DemoEffect(
+        "droste",
+        "droste --center -163,5 --frame -173,23.6 -153.8,24.5 -153.8,-14.8 -173,-14.2: "
+        "the room inside its own picture, a flower-shaped portal opposite (view facing it)",
+        lambda d: _droste(d, twist=False),
+    ),
+    DemoEffect(
+        "droste-twisted",
+        "the same with --twist --scale 8 (De Smit-Lenstra, Escher's Print Gallery)",
+        lambda d: _droste(d, twist=True),
+    ),
+    DemoEffect(
+        "lattes-square",
+        "lattes --alpha 2+1j: the paper's rational map z((-1+2i)+z^2)^2/(-i+(2+i)z^2)^2",
+        lambda d: d.warp(d.sample, _lattes("2+1j", "square")),
+    ),
+    DemoEffect(
+        "lattes-hex",
+        "lattes --lattice hex --alpha 1+w: the paper's (z^3+sqrt 2)/(3 w z^2)",
+        lambda d: d.warp(d.sample, _lattes("1+w", "hex")),
+    ),
+    DemoEffect(
+        "peirce-torus",
+        "peirce (the whole sphere in a square) beside torus (the square torus cell: two copies)",
+        lambda d: _peirce_and_torus(d),
+    ),
 ]
+
+#: corners (LON,LAT) of the canvas on the wall of interior.png, read off the image
+PICTURE_FRAME = ((-173.0, 23.6), (-153.8, 24.5), (-153.8, -14.8), (-173.0, -14.2))
+
+
+def _droste(d: DemoInputs, twist: bool) -> NDArray:
+    from .droste import droste_map, hole_from_corners
+
+    hole = hole_from_corners(PICTURE_FRAME, PICTURE)
+    droste = droste_map(hole, 8.0 if twist else None, twist=twist)
+    return d.warp(d.sample, droste @ _facing_picture())
+
+
+def _lattes(alpha: str, lattice: str) -> SphereMap:
+    from .maps.elliptic import Lattes
+
+    return Lattes(alpha, lattice)
+
+
+def _peirce_and_torus(d: DemoInputs) -> NDArray:
+    from .projections import render_peirce
+    from .torus import render_torus
+
+    h, w = d.output_shape
+    side = min(h, w // 2)
+    canvas = np.zeros((h, w, 3), np.uint8)
+    canvas[:side, :side] = render_peirce(d.sample, side, supersample=d.supersample)
+    canvas[:side, side : 2 * side] = render_torus(d.sample, width=side, supersample=d.supersample)
+    return canvas
 
 
 def run_demo(
