@@ -1,0 +1,42 @@
+"""Regenerate the README pictures in docs/images from the demo effects.
+
+Run from the repository root:  python docs/make_images.py
+"""
+
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+from spherewarp.demo import run_demo
+
+OUT = Path(__file__).parent / "images"
+PICKS = {  # demo file stem -> README picture
+    "01-original": "original.jpg",
+    "05-zoom-picture": "zoom.jpg",
+    "08-droste": "droste.jpg",
+    "09-droste-twisted": "droste-twisted.jpg",
+    "10-lattes-square": "lattes.jpg",
+    "12-peirce-torus": "peirce-torus.jpg",
+}
+
+
+def main() -> None:
+    OUT.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory() as tmp:
+        run_demo(Path(tmp) / "demo", supersample=3, echo=None)
+        for path in sorted((Path(tmp) / "demo").glob("*.png")):
+            stem = path.stem
+            pixels = np.asarray(Image.open(path).convert("RGB"))
+            if stem == "02-testpattern":
+                Image.fromarray(pixels).save(OUT / "testpattern.png", optimize=True)
+            elif stem in PICKS:
+                Image.fromarray(pixels).save(OUT / PICKS[stem], quality=82, optimize=True)
+    print("\n".join(sorted(p.name for p in OUT.iterdir())))
+
+
+if __name__ == "__main__":
+    main()
