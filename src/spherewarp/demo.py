@@ -167,6 +167,21 @@ DEMO_EFFECTS: list[DemoEffect] = [
         lambda d: d.warp(d.pattern, _zoom_picture()),
     ),
     DemoEffect(
+        "power-2",
+        "power --n 2: two copies around branch points on the ceiling and the floor",
+        lambda d: d.warp(d.sample, _power2()),
+    ),
+    DemoEffect(
+        "power-2-branch-point",
+        "power --n 2 --look-at 0,90: the order-2 branch point on the ceiling, at the centre",
+        lambda d: d.warp(d.sample, _power2() @ Mobius.from_yaw_pitch_roll(0.0, 90.0)),
+    ),
+    DemoEffect(
+        "exp",
+        "exp --lam 4: infinitely many copies side by side, meeting at the back",
+        lambda d: d.warp(d.sample, _exp4(), supersample=max(3, d.supersample)),
+    ),
+    DemoEffect(
         "droste",
         "droste --center -163,5 --frame -173,23.6 -153.8,24.5 -153.8,-14.8 -173,-14.2: "
         "the room inside its own picture, a flower-shaped portal opposite (view facing it)",
@@ -204,6 +219,18 @@ def _droste(d: DemoInputs, twist: bool) -> NDArray:
     hole = hole_from_corners(PICTURE_FRAME, PICTURE)
     droste = droste_map(hole, 8.0 if twist else None, twist=twist)
     return d.warp(d.sample, droste @ _facing_picture())
+
+
+def _power2() -> SphereMap:
+    from .maps.branched import Power
+
+    return Power(2)
+
+
+def _exp4() -> SphereMap:
+    from .maps.branched import ExpMap
+
+    return ExpMap(4.0)
 
 
 def _lattes(alpha: str, lattice: str) -> SphereMap:
