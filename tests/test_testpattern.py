@@ -9,7 +9,7 @@ from spherewarp import coords
 from spherewarp.errors import InvalidTypeError, InvalidValueError
 from spherewarp.maps import Mobius
 from spherewarp.testpattern import CHARTS, chart_points
-from spherewarp.testpattern import test_pattern as make_pattern
+from spherewarp.testpattern import make_test_pattern as make_pattern
 
 # Colours of the pattern (uint8), as drawn.
 DISC = {

@@ -15,11 +15,24 @@ Möbius maps (:mod:`spherewarp.maps.mobius`)
     ``zoom``, ``zoom_between``, ``translation``, ``from_points``; ``@`` is
     composition (f after g), ``inverse``, ``power``, ``fixed_points``,
     ``classify``.
+Branched maps (:mod:`spherewarp.maps.branched`, :mod:`spherewarp.maps.expression`)
+    :class:`Power` (z^n and roots about any two branch points), :class:`ExpMap`
+    (the paper's exp variant), :class:`ExpressionMap` (a formula in z);
+    :func:`splitscreen` (k panoramas on the k sheets of a branched cover).
+Droste (:mod:`spherewarp.maps.droste`, :mod:`spherewarp.droste`)
+    :class:`Droste`, :class:`TwistedDroste`; frames from corners, masks or radii.
+Elliptic and rational maps (:mod:`spherewarp.maps.elliptic`, :mod:`spherewarp.maps.rational`)
+    :class:`Lattes`, :class:`Rational`, :func:`fit_rational`; Weierstrass p and
+    Schwarz-Christoffel in :mod:`spherewarp.special`; Peirce's quincuncial
+    projection in :mod:`spherewarp.projections`; toroidal images in
+    :mod:`spherewarp.torus`.
 The map protocol (:mod:`spherewarp.maps.base`)
     :class:`SphereMap`, :class:`PullBack`, :class:`Composite`,
     :func:`map_from_dict`, :func:`map_from_json`.
 Images (:mod:`spherewarp.io`)
     :func:`read_image`, :func:`write_image`.
+Test pattern (:mod:`spherewarp.testpattern`)
+    :func:`make_test_pattern`.
 Coordinates (:mod:`spherewarp.coords`)
     pixel, lon/lat, unit vectors, CP^1 pairs and the Riemann sphere.
 Errors (:mod:`spherewarp.errors`)
@@ -48,13 +61,6 @@ from .errors import (
     SpherewarpError,
 )
 
-try:
-    from importlib.metadata import version as _version
-
-    __version__ = _version("spherewarp")
-except Exception:  # pragma: no cover - not installed
-    __version__ = "0+unknown"
-
 # Public names loaded on first use, so that `import spherewarp` (and the CLI) start fast.
 _LAZY = {
     "warp": "spherewarp.render.warp",
@@ -67,6 +73,16 @@ _LAZY = {
     "map_from_json": "spherewarp.maps.base",
     "read_image": "spherewarp.io",
     "write_image": "spherewarp.io",
+    "Power": "spherewarp.maps.branched",
+    "ExpMap": "spherewarp.maps.branched",
+    "ExpressionMap": "spherewarp.maps.expression",
+    "Droste": "spherewarp.maps.droste",
+    "TwistedDroste": "spherewarp.maps.droste",
+    "Lattes": "spherewarp.maps.elliptic",
+    "Rational": "spherewarp.maps.rational",
+    "fit_rational": "spherewarp.maps.rational",
+    "splitscreen": "spherewarp.splitscreen",
+    "make_test_pattern": "spherewarp.testpattern",
 }
 
 __all__ = [
@@ -76,17 +92,50 @@ __all__ = [
     "OutputExistsError",
     "SpherewarpError",
     "__version__",
-    *_LAZY,
+    "warp",
+    "push",
+    "Mobius",
+    "SphereMap",
+    "PullBack",
+    "Composite",
+    "map_from_dict",
+    "map_from_json",
+    "read_image",
+    "write_image",
+    "Power",
+    "ExpMap",
+    "ExpressionMap",
+    "Droste",
+    "TwistedDroste",
+    "Lattes",
+    "Rational",
+    "fit_rational",
+    "splitscreen",
+    "make_test_pattern",
 ]
 
 if TYPE_CHECKING:  # pragma: no cover
     from .io import read_image, write_image
     from .maps.base import Composite, PullBack, SphereMap, map_from_dict, map_from_json
+    from .maps.branched import ExpMap, Power
+    from .maps.droste import Droste, TwistedDroste
+    from .maps.elliptic import Lattes
+    from .maps.expression import ExpressionMap
     from .maps.mobius import Mobius
+    from .maps.rational import Rational, fit_rational
     from .render.warp import push, warp
+    from .splitscreen import splitscreen
+    from .testpattern import make_test_pattern
 
 
 def __getattr__(name: str) -> Any:
+    if name == "__version__":
+        from importlib.metadata import PackageNotFoundError, version
+
+        try:
+            return version("spherewarp")
+        except PackageNotFoundError:  # pragma: no cover - not installed
+            return "0+unknown"
     module = _LAZY.get(name)
     if module is None:
         raise AttributeError(f"module 'spherewarp' has no attribute {name!r}")

@@ -72,7 +72,7 @@ class DemoInputs:
     sample : ndarray (H, W, 3) uint8
         The bundled ``interior.png``.
     pattern : ndarray (H, W, 3) uint8
-        The test pattern (:func:`spherewarp.testpattern.test_pattern`), same size.
+        The test pattern (:func:`spherewarp.testpattern.make_test_pattern`), same size.
     output_shape : (height, width)
         Size of the images to produce.
     supersample : int
@@ -289,7 +289,7 @@ def run_demo(
         If a file exists and ``overwrite`` is false (nothing is written).
     """
     from .io import read_image, write_image
-    from .testpattern import test_pattern
+    from .testpattern import make_test_pattern
 
     start = time.perf_counter()
     effects = list(DEMO_EFFECTS if effects is None else effects)
@@ -312,7 +312,7 @@ def run_demo(
         w, h = (int(v) for v in size)
     inputs = DemoInputs(
         sample=src.pixels,
-        pattern=test_pattern(w, h),
+        pattern=make_test_pattern(w, h),
         output_shape=(h, w),
         supersample=supersample,
     )

@@ -35,8 +35,8 @@ lon growing to the right, lat upwards (see :mod:`spherewarp.coords`).
 
 Examples
 --------
->>> from spherewarp.testpattern import test_pattern, chart_points
->>> img = test_pattern(256)
+>>> from spherewarp.testpattern import make_test_pattern, chart_points
+>>> img = make_test_pattern(256)
 >>> img.shape, img.dtype
 ((128, 256, 3), dtype('uint8'))
 >>> chart_points("front")["1"]
@@ -55,9 +55,9 @@ from numpy.typing import DTypeLike, NDArray
 from . import coords
 from .errors import InvalidTypeError, InvalidValueError
 
-__all__ = ["CHARTS", "chart_points", "test_pattern"]
+__all__ = ["CHARTS", "chart_points", "make_test_pattern"]
 
-#: The charts :func:`test_pattern` can mark: label -> (lon, lat) in degrees.
+#: The charts :func:`make_test_pattern` can mark: label -> (lon, lat) in degrees.
 CHARTS: dict[str, dict[str, tuple[float, float]]] = {
     "zenith": {
         "0": (0.0, 90.0),
@@ -384,7 +384,7 @@ def _to_dtype(img: NDArray[np.float64], dt: np.dtype) -> NDArray:
     return np.clip(img, 0.0, 1.0).astype(dt)
 
 
-def test_pattern(
+def make_test_pattern(
     width: int = 1024,
     height: int | None = None,
     chart: str = "zenith",
@@ -424,7 +424,7 @@ def test_pattern(
 
     Examples
     --------
-    >>> img = test_pattern(64, dtype=np.float32)
+    >>> img = make_test_pattern(64, dtype=np.float32)
     >>> img.shape, img.dtype, bool(0.0 <= img.min() and img.max() <= 1.0)
     ((32, 64, 3), dtype('float32'), True)
     """
@@ -455,4 +455,4 @@ def test_pattern(
     return img
 
 
-test_pattern.__test__ = False  # type: ignore[attr-defined]  # not a test for pytest
+make_test_pattern.__test__ = False  # type: ignore[attr-defined]  # not a test for pytest

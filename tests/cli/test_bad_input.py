@@ -18,7 +18,7 @@ import pytest
 import spherewarp.render
 from spherewarp.cli import main
 from spherewarp.io import read_image, write_image
-from spherewarp.testpattern import test_pattern as make_pattern
+from spherewarp.testpattern import make_test_pattern as make_pattern
 
 W, H = 128, 64
 

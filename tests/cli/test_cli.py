@@ -16,7 +16,7 @@ from spherewarp.cli import COMMANDS, main
 from spherewarp.io import GPano, read_image, write_image
 from spherewarp.maps import Mobius, map_from_json
 from spherewarp.render import warp
-from spherewarp.testpattern import test_pattern
+from spherewarp.testpattern import make_test_pattern
 
 W, H = 128, 64
 
@@ -47,7 +47,7 @@ def workdir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
 @pytest.fixture
 def pattern_png(workdir: Path) -> Path:
     """A 128x64 test pattern (no labels) as an 8-bit PNG."""
-    return write_image(workdir / "in.png", test_pattern(W, labels=False))
+    return write_image(workdir / "in.png", make_test_pattern(W, labels=False))
 
 
 def pushed(image: np.ndarray, forward: Mobius, **kw: object) -> np.ndarray:
@@ -214,7 +214,7 @@ def test_zoom_center_brings_the_point_to_the_front(capsys, pattern_png):
 def test_zoom_magnifies_the_content(capsys, workdir):
     # The -1 disc at the front (a cap of radius r) comes out with radius 2 atan(4 tan(r/2)).
     w = 512
-    write_image("big.png", test_pattern(w, labels=False))
+    write_image("big.png", make_test_pattern(w, labels=False))
     ok(capsys, "zoom", "big.png", "--at", "0,0", "--factor", 4, "-o", "out.png")
     # The pattern's colours (disc, rim, equator, meridian, checker): each pixel is classified
     # by the nearest, so anti-aliased edges split at 50% coverage.
@@ -297,7 +297,7 @@ def test_output_format_from_extension(capsys, pattern_png, ext, fmt, dtype):
 
 
 def test_uint16_png_stays_uint16(capsys, workdir):
-    src = test_pattern(W, dtype=np.uint16, labels=False)
+    src = make_test_pattern(W, dtype=np.uint16, labels=False)
     write_image("in16.png", src)
     ok(capsys, "rotate", "in16.png", "--yaw", 90, "-o", "out16.png")
     out = read_image("out16.png").pixels
@@ -306,7 +306,7 @@ def test_uint16_png_stays_uint16(capsys, workdir):
 
 
 def test_exr_float32_stays_hdr(capsys, workdir):
-    src = (test_pattern(W, dtype=np.float32, labels=False) * 40.0).astype(np.float32)
+    src = (make_test_pattern(W, dtype=np.float32, labels=False) * 40.0).astype(np.float32)
     write_image("in.exr", src)
     ok(capsys, "zoom", "in.exr", "--at", "0,0", "--factor", 2, "-o", "out.exr")
     out = read_image("out.exr")
@@ -321,7 +321,8 @@ def test_icc_exif_and_gpano_are_carried(capsys, workdir):
     icc = ImageCms.ImageCmsProfile(ImageCms.createProfile("sRGB")).tobytes()
     exif = Image.Exif()
     exif[0x010F] = "SpherewarpTestCam"
-    write_image("meta.png", test_pattern(W, labels=False), icc_profile=icc, exif=exif.tobytes())
+    pattern = make_test_pattern(W, labels=False)
+    write_image("meta.png", pattern, icc_profile=icc, exif=exif.tobytes())
     ok(capsys, "mobius", "meta.png", "--matrix", "2,0,0,1", "-o", "out.png", "--size", "96x48")
     out = read_image("out.png")
     assert out.icc_profile == icc
@@ -348,7 +349,7 @@ def test_testpattern_command(capsys, workdir):
     ok(capsys, "testpattern", "-o", "tp.png", "--size", "256x128")
     img = read_image("tp.png")
     assert img.pixels.shape == (128, 256, 3) and img.pixels.dtype == np.uint8
-    np.testing.assert_array_equal(img.pixels, test_pattern(256))
+    np.testing.assert_array_equal(img.pixels, make_test_pattern(256))
     assert img.gpano == GPano.full_sphere(256, 128)
     ok(
         capsys,
@@ -364,7 +365,7 @@ def test_testpattern_command(capsys, workdir):
         "--no-labels",
     )
     img = read_image("tp16.png").pixels
-    np.testing.assert_array_equal(img, test_pattern(64, chart="front", dtype=np.uint16))
+    np.testing.assert_array_equal(img, make_test_pattern(64, chart="front", dtype=np.uint16))
     ok(capsys, "testpattern", "-o", "tp.exr", "--size", "64x32", "--dtype", "float32")
     assert read_image("tp.exr").pixels.dtype == np.float32
 
@@ -378,7 +379,7 @@ def test_testpattern_default_output_and_overwrite(capsys, workdir):
 
 
 def test_info_text_and_json(capsys, workdir):
-    src = (test_pattern(64, dtype=np.float32, labels=False) * 8).astype(np.float32)
+    src = (make_test_pattern(64, dtype=np.float32, labels=False) * 8).astype(np.float32)
     write_image("a.exr", src)
     text = ok(capsys, "info", "a.exr")
     for needle in ("EXR", "64x32", "float32", "2:1", "equirectangular", "RGB"):
@@ -439,7 +440,7 @@ def _script() -> str:
 
 def test_console_script_runs(workdir):
     script = _script()
-    write_image("in.png", test_pattern(W, labels=False))
+    write_image("in.png", make_test_pattern(W, labels=False))
     done = subprocess.run(
         [script, "rotate", "in.png", "--yaw", "90", "-o", "out.png"],
         capture_output=True,

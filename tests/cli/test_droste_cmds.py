@@ -22,7 +22,7 @@ from spherewarp.errors import InvalidValueError
 from spherewarp.io import read_image, write_image
 from spherewarp.maps import TwistedDroste, map_from_json
 from spherewarp.render import warp
-from spherewarp.testpattern import test_pattern
+from spherewarp.testpattern import make_test_pattern
 
 W, H = 128, 64
 FRAME = ["-20,20", "20,20", "20,-20", "-20,-20"]
@@ -57,7 +57,7 @@ def workdir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
 
 @pytest.fixture
 def pattern(workdir: Path) -> tuple[Path, np.ndarray]:
-    pixels = test_pattern(W, labels=False)
+    pixels = make_test_pattern(W, labels=False)
     return write_image(workdir / "in.png", pixels), pixels
 
 

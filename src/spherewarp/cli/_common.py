@@ -252,10 +252,14 @@ def save_output(
     source: Any,
     render: RenderOptions,
     command: str,
+    *,
+    gpano: bool = True,
 ) -> Path:
     """Write the result atomically, carrying ICC profile and EXIF over from ``source``.
 
-    ``source`` is the input's ``ImageData`` (or None). Prints the path written.
+    ``source`` is the input's ``ImageData`` (or None). ``gpano=False`` for outputs that
+    are not equirectangular panoramas (a Peirce square, a torus texture). Prints the path
+    written.
     """
     from ..io import write_image
 
@@ -265,7 +269,7 @@ def save_output(
         pixels,
         icc_profile=getattr(source, "icc_profile", None),
         exif=getattr(source, "exif", None),
-        gpano=True,
+        gpano=gpano,
         quality=render.quality,
         overwrite=render.overwrite,
     )

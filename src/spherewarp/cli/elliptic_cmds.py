@@ -13,7 +13,7 @@ from typing import Any
 
 import click
 
-from ._common import RenderOptions, example, input_argument, render_options
+from ._common import RenderOptions, example, input_argument, render_options, save_output
 
 __all__ = ["lattes", "fit_rational_cmd", "peirce", "torus"]
 
@@ -29,25 +29,6 @@ def _check_suffix(path: Path) -> None:
             f"cannot write '{path}': unknown extension {path.suffix or '(none)'!r}; "
             f"use one of {', '.join(SUPPORTED_EXTENSIONS)}"
         )
-
-
-def _save_flat(pixels: Any, source: Any, render: RenderOptions, command: str) -> Path:
-    """Write an image that is not an equirectangular panorama (no GPano metadata)."""
-    from ..io import write_image
-    from ._common import output_path
-
-    out = output_path(render, getattr(source, "path", None), command)
-    written = write_image(
-        out,
-        pixels,
-        icc_profile=getattr(source, "icc_profile", None),
-        exif=getattr(source, "exif", None),
-        gpano=False,
-        quality=render.quality,
-        overwrite=render.overwrite,
-    )
-    click.echo(f"wrote {written}")
-    return Path(written)
 
 
 def _json_of_fit(data: dict[str, Any]) -> str:
@@ -244,7 +225,7 @@ def peirce(input: Path, render: RenderOptions, inverse: bool, lon0: float) -> No
         supersample=render.supersample,
         force=render.force,
     )
-    _save_flat(out, src, render, "peirce")
+    save_output(out, src, render, "peirce", gpano=False)
 
 
 # -- torus -------------------------------------------------------------------------------
@@ -309,7 +290,7 @@ def torus(input: Path, render: RenderOptions, lattice: str, cells: str, mesh: Pa
     width = render.size[0] if render.size else None
     kw = {"interp": render.interp, "supersample": render.supersample, "force": render.force}
     out = render_torus(src.pixels, lat, cells=cxy, width=width, **kw)
-    _save_flat(out, src, render, "torus")
+    save_output(out, src, render, "torus", gpano=False)
     if mesh is not None:
         texture = render_torus_texture(src.pixels, lat, cells=cxy, **kw)
         if texture.dtype.kind == "f":  # the PNG texture: 16-bit

@@ -72,7 +72,7 @@ def testpattern(
     """
     from ..errors import InvalidValueError, OutputExistsError
     from ..io import write_image
-    from ..testpattern import test_pattern
+    from ..testpattern import make_test_pattern
     from .mobius_cmds import check_output_suffix
 
     if output.exists() and not overwrite:
@@ -88,7 +88,7 @@ def testpattern(
     w, h = size
     if w < 8 or h < 4:
         raise InvalidValueError(f"--size: expected at least 8x4, got {w}x{h}")
-    pixels = test_pattern(w, h, chart=chart.lower(), dtype=dtype, labels=not no_labels)
+    pixels = make_test_pattern(w, h, chart=chart.lower(), dtype=dtype, labels=not no_labels)
     written = write_image(output, pixels, gpano=True, quality=quality, overwrite=overwrite)
     click.echo(f"wrote {written}")
 

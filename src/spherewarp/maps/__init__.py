@@ -1,35 +1,89 @@
 """Conformal maps of the sphere, one family a module.
 
-See :mod:`spherewarp.maps.base` for the map protocol every effect follows.
+==============================  =============================================
+module                          maps
+==============================  =============================================
+:mod:`~spherewarp.maps.base`    the map protocol: :class:`SphereMap`,
+                                :class:`PullBack`, :class:`Composite`
+:mod:`~spherewarp.maps.mobius`  :class:`Mobius` (rotations, zooms, ...)
+:mod:`~.branched`               :class:`Power` (z^n, roots), :class:`ExpMap`,
+                                :class:`LogMap`
+:mod:`~.expression`             :class:`ExpressionMap` (``"z**2 + 1"``),
+                                :class:`FunctionMap` (a Python callable)
+:mod:`~.droste`                 :class:`Droste`, :class:`TwistedDroste`
+:mod:`~.rational`               :class:`Rational`, :func:`fit_rational`
+:mod:`~.elliptic`               :class:`Lattes`
+==============================  =============================================
+
+Names are imported on first use, so that the command line starts fast.
 """
 
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
 from .base import Composite, PullBack, SphereMap, map_from_dict, map_from_json, register_map
-from .branched import ExpMap, LogMap, Power, chart_for_branch_points
-from .droste import Droste, TwistedDroste
-from .elliptic import Lattes
-from .expression import ExpressionMap, FunctionMap
 from .mobius import Mobius, as_cp1_point
-from .rational import Rational, RationalFit, fit_rational
+
+#: name -> submodule, for the families imported on first use
+_LAZY = {
+    "ExpMap": "branched",
+    "LogMap": "branched",
+    "Power": "branched",
+    "chart_for_branch_points": "branched",
+    "Droste": "droste",
+    "TwistedDroste": "droste",
+    "Lattes": "elliptic",
+    "ExpressionMap": "expression",
+    "FunctionMap": "expression",
+    "Rational": "rational",
+    "RationalFit": "rational",
+    "fit_rational": "rational",
+}
+
+#: every module that registers map kinds (read by map_from_dict for unknown kinds)
+MAP_MODULES = ("mobius", "branched", "droste", "elliptic", "expression", "rational")
 
 __all__ = [
     "Composite",
-    "Droste",
-    "ExpMap",
-    "ExpressionMap",
-    "FunctionMap",
-    "Lattes",
-    "LogMap",
     "Mobius",
-    "Power",
     "PullBack",
-    "Rational",
-    "RationalFit",
     "SphereMap",
-    "TwistedDroste",
     "as_cp1_point",
-    "chart_for_branch_points",
-    "fit_rational",
     "map_from_dict",
     "map_from_json",
     "register_map",
+    "ExpMap",
+    "LogMap",
+    "Power",
+    "chart_for_branch_points",
+    "Droste",
+    "TwistedDroste",
+    "Lattes",
+    "ExpressionMap",
+    "FunctionMap",
+    "Rational",
+    "RationalFit",
+    "fit_rational",
 ]
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .branched import ExpMap, LogMap, Power, chart_for_branch_points
+    from .droste import Droste, TwistedDroste
+    from .elliptic import Lattes
+    from .expression import ExpressionMap, FunctionMap
+    from .rational import Rational, RationalFit, fit_rational
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'spherewarp.maps' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

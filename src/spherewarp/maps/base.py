@@ -294,6 +294,14 @@ def map_from_dict(data: dict[str, Any]) -> SphereMap:
         raise InvalidValueError(f"expected a dict with a 'kind' key, got {data!r:.80}")
     params = dict(data)
     kind = params.pop("kind")
+    if str(kind).lower() not in _REGISTRY:
+        # The map families register themselves when imported; import them all.
+        import importlib
+
+        from . import MAP_MODULES
+
+        for name in MAP_MODULES:
+            importlib.import_module(f"{__package__}.{name}")
     try:
         cls = _REGISTRY[str(kind).lower()]
     except KeyError:
