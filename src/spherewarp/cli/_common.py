@@ -31,6 +31,7 @@ __all__ = [
     "PIXEL",
     "COMPLEX",
     "SIZE",
+    "RealType",
     "RenderOptions",
     "example",
     "input_argument",
@@ -116,6 +117,54 @@ class SizeType(click.ParamType):
         if not (1 <= w <= 65536 and 1 <= h <= 32768):
             self.fail(f"expected a size between 1x1 and 65536x32768, got {value!r}", param, ctx)
         return w, h
+
+
+class RealType(click.ParamType):
+    """A finite real number, optionally bounded: ``RealType("a zoom factor", "2", gt=0)``.
+
+    Errors read "expected <what> <bounds> (e.g. <example>), got '<value>'".
+    """
+
+    def __init__(
+        self,
+        what: str,
+        example: str,
+        *,
+        metavar: str = "X",
+        gt: float | None = None,
+        ge: float | None = None,
+        le: float | None = None,
+        hint: str = "",
+    ):
+        self.what, self.example, self.name = what, example, metavar
+        self.gt, self.ge, self.le, self.hint = gt, ge, le, hint
+
+    def _bounds(self) -> str:
+        if self.ge is not None and self.le is not None:
+            return f" from {self.ge:g} to {self.le:g}"
+        parts = []
+        if self.gt is not None:
+            parts.append(f"> {self.gt:g}")
+        if self.ge is not None:
+            parts.append(f">= {self.ge:g}")
+        if self.le is not None:
+            parts.append(f"<= {self.le:g}")
+        return (" " + " and ".join(parts)) if parts else ""
+
+    def convert(self, value: Any, param: Any, ctx: Any) -> float:
+        if isinstance(value, float):
+            return value
+        expected = f"expected {self.what}{self._bounds()} (e.g. {self.example}{self.hint})"
+        try:
+            v = float(str(value).strip())
+        except ValueError:
+            self.fail(f"{expected}, got {value!r}", param, ctx)
+        if v != v or abs(v) == float("inf"):
+            self.fail(f"expected a finite value: {expected[9:]}, got {value!r}", param, ctx)
+        ok = (self.gt is None or v > self.gt) and (self.ge is None or v >= self.ge)
+        if not ok or (self.le is not None and v > self.le):
+            self.fail(f"{expected}, got {value!r}", param, ctx)
+        return v
 
 
 POINT = PointType()

@@ -18,7 +18,7 @@ from typing import Any
 
 import click
 
-from ._common import POINT, RenderOptions, example, input_argument, render_options
+from ._common import POINT, RealType, RenderOptions, example, input_argument, render_options
 
 __all__ = ["power", "exp", "map_cmd", "splitscreen"]
 
@@ -44,40 +44,6 @@ class ExponentType(click.ParamType):
                 )
         if not math.isfinite(v) or v == 0:
             self.fail(f"expected a finite non-zero exponent, got {value!r}", param, ctx)
-        return v
-
-
-class PositiveType(click.ParamType):
-    """A finite real number > 0."""
-
-    name = "X"
-
-    def convert(self, value: Any, param: Any, ctx: Any) -> float:
-        if isinstance(value, float):
-            return value
-        try:
-            v = float(str(value).strip())
-        except ValueError:
-            self.fail(f"expected a number > 0 (e.g. 4), got {value!r}", param, ctx)
-        if not (math.isfinite(v) and v > 0):
-            self.fail(f"expected a finite number > 0, got {value!r}", param, ctx)
-        return v
-
-
-class FeatherType(click.ParamType):
-    """Degrees from 0 to 180."""
-
-    name = "DEG"
-
-    def convert(self, value: Any, param: Any, ctx: Any) -> float:
-        if isinstance(value, float):
-            return value
-        try:
-            v = float(str(value).strip())
-        except ValueError:
-            self.fail(f"expected a feather width in degrees (e.g. 10), got {value!r}", param, ctx)
-        if not (0 <= v <= 180):
-            self.fail(f"expected a feather width from 0 to 180 degrees, got {value!r}", param, ctx)
         return v
 
 
@@ -110,8 +76,8 @@ class SeamType(click.ParamType):
 
 
 EXPONENT = ExponentType()
-POSITIVE = PositiveType()
-FEATHER = FeatherType()
+POSITIVE = RealType("a number", "4", gt=0)
+FEATHER = RealType("a feather width in degrees", "10", metavar="DEG", ge=0, le=180)
 SEAM = SeamType()
 
 _BRANCH_POINTS_HELP = (

@@ -16,7 +16,7 @@ from typing import Any
 
 import click
 
-from ._common import POINT, RenderOptions, example, input_argument, render_options
+from ._common import POINT, RealType, RenderOptions, example, input_argument, render_options
 
 __all__ = ["droste", "frame_paths"]
 
@@ -46,25 +46,8 @@ class ScaleType(click.ParamType):
         return v
 
 
-class DegreesType(click.ParamType):
-    """A finite number of degrees."""
-
-    name = "DEG"
-
-    def convert(self, value: Any, param: Any, ctx: Any) -> float:
-        if isinstance(value, float):
-            return value
-        try:
-            v = float(str(value).strip())
-        except ValueError:
-            self.fail(f"expected degrees (e.g. 12.5), got {value!r}", param, ctx)
-        if not math.isfinite(v):
-            self.fail(f"expected a finite number of degrees, got {value!r}", param, ctx)
-        return v
-
-
 SCALE = ScaleType()
-DEGREES = DegreesType()
+DEGREES = RealType("degrees", "12.5", metavar="DEG")
 
 
 def frame_paths(output: Path, n: int) -> list[Path]:

@@ -104,7 +104,7 @@ def lattes(
     if input is None:
         raise click.UsageError("missing INPUT (only --print works without an image)")
     from ..render import warp
-    from ._common import load_input, output_path, save_output
+    from ._common import load_input, output_path
 
     src = load_input(input, render)
     _check_suffix(output_path(render, src.path, "lattes"))
@@ -193,7 +193,6 @@ def peirce(input: Path, render: RenderOptions, inverse: bool, lon0: float) -> No
         raise click.BadParameter(f"expected a finite longitude, got {lon0!r}", param_hint="--lon0")
     if inverse:
         from ..io import read_image
-        from ._common import save_output
 
         src = read_image(input)
         h, w = src.pixels.shape[:2]

@@ -15,47 +15,9 @@ from typing import Any
 
 import click
 
-from ._common import PIXEL, POINT, RenderOptions, example, input_argument, render_options
+from ._common import PIXEL, POINT, RealType, RenderOptions, example, input_argument, render_options
 
 __all__ = ["rotate", "zoom", "mobius"]
-
-
-class AngleType(click.ParamType):
-    """A finite angle in degrees."""
-
-    name = "DEG"
-
-    def convert(self, value: Any, param: Any, ctx: Any) -> float:
-        if isinstance(value, float):
-            return value
-        try:
-            v = float(str(value).strip())
-        except ValueError:
-            self.fail(f"expected an angle in degrees (e.g. 30 or -12.5), got {value!r}", param, ctx)
-        if not math.isfinite(v):
-            self.fail(f"expected a finite angle in degrees, got {value!r}", param, ctx)
-        return v
-
-
-class FactorType(click.ParamType):
-    """A finite real number > 0."""
-
-    name = "F"
-
-    def convert(self, value: Any, param: Any, ctx: Any) -> float:
-        if isinstance(value, float):
-            return value
-        try:
-            v = float(str(value).strip())
-        except ValueError:
-            self.fail(f"expected a zoom factor > 0 (e.g. 2 or 0.5), got {value!r}", param, ctx)
-        if not (math.isfinite(v) and v > 0):
-            self.fail(
-                f"expected a finite zoom factor > 0 (1 = no zoom, 0.5 = zoom out), got {value!r}",
-                param,
-                ctx,
-            )
-        return v
 
 
 class MatrixType(click.ParamType):
@@ -93,8 +55,8 @@ class MatrixType(click.ParamType):
         return tuple(entries)
 
 
-ANGLE = AngleType()
-FACTOR = FactorType()
+ANGLE = RealType("an angle in degrees", "30 or -12.5", metavar="DEG")
+FACTOR = RealType("a zoom factor", "2, or 0.5 to zoom out", metavar="F", gt=0)
 MATRIX = MatrixType()
 
 _PRINT_HELP = (
