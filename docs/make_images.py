@@ -17,10 +17,11 @@ OUT = Path(__file__).parent / "images"
 PICKS = {  # demo file stem -> README picture
     "01-original": "original.jpg",
     "05-zoom-picture": "zoom.jpg",
-    "08-droste": "droste.jpg",
-    "09-droste-twisted": "droste-twisted.jpg",
-    "10-lattes-square": "lattes.jpg",
-    "12-peirce-torus": "peirce-torus.jpg",
+    "09-power-2-branch-point": "power-2.jpg",
+    "11-droste": "droste.jpg",
+    "12-droste-twisted": "droste-twisted.jpg",
+    "13-lattes-square": "lattes.jpg",
+    "15-peirce-torus": "peirce-torus.jpg",
 }
 
 
