@@ -303,7 +303,7 @@ def test_two_images_alternate_inward() -> None:
     d = droste_map(hole, 4.0, n_images=2)
     a = np.full((H, W, 3), 50, np.uint8)
     b = np.full((H, W, 3), 200, np.uint8)
-    out = droste_image([a, b], d)
+    out = droste_image([a, b], d, antialias="none")
     ll = pixel_lonlat(H, W)
     k = d.tile_index(coords.cp1_from_lonlat(np.radians(ll)))
     np.testing.assert_array_equal(out[..., 0][k % 2 == 0], 50)

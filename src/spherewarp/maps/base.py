@@ -142,6 +142,17 @@ class SphereMap(ABC):
         """
         return None
 
+    def kernel_stages(self) -> tuple[tuple[str, NDArray[np.float64]], ...] | None:
+        """The map as stages of the compiled renderer, or None (the default).
+
+        A map that the fast renderer can evaluate inside its compiled kernel
+        returns ``((kind, params), ...)`` in the order the stages are applied
+        (see :mod:`spherewarp.render.fast` for the kinds and how to add one).
+        With None the renderer gets the map's points from :meth:`pull` and
+        only samples them in compiled code.
+        """
+        return None
+
     def inverse(self) -> SphereMap:
         """The inverse map; raises :class:`InvalidValueError` if there is none."""
         raise InvalidValueError(f"{type(self).__name__} has no single-valued inverse")

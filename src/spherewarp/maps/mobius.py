@@ -230,6 +230,10 @@ class Mobius(SphereMap):
     def as_mobius(self) -> Mobius:
         return self
 
+    def kernel_stages(self) -> tuple[tuple[str, NDArray[np.float64]], ...]:
+        """One ``"mobius"`` stage: ``a, b, c, d`` as 8 floats (re, im) for the compiled renderer."""
+        return (("mobius", self._m.view(np.float64).ravel().copy()),)
+
     def inverse(self) -> Mobius:
         """The inverse map.
 

@@ -8,11 +8,26 @@ skimage's ``warp(image, inverse_map)``)::
 
 Work is done in tiles of output rows, so memory stays bounded whatever the
 output size.
+
+Two paths render the same pull-back:
+
+* the fast path (default, where it applies): compiled kernels
+  (:mod:`spherewarp.render.fast`, numba) that evaluate maps which describe
+  themselves as compiled stages (Möbius maps, compositions of them) inside
+  the kernel, and sample any other map's NumPy-computed coordinates in
+  compiled code;
+* the reference path (``method="reference"``, or when numba is missing):
+  float64 NumPy throughout, the yardstick the fast path is tested against.
+
+Anti-aliasing (``antialias="auto"``, the default) supersamples only the
+pixels whose footprint in the input covers more than about one input pixel,
+from the map's local magnification (:mod:`spherewarp.render.antialias`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -20,12 +35,26 @@ from numpy.typing import ArrayLike, NDArray
 from .. import coords
 from ..errors import InvalidTypeError, InvalidValueError
 from ..maps.base import SphereMap
+from . import antialias as _aa
 from .sampling import check_interp, sample
 
 __all__ = ["warp", "push", "check_equirect", "as_image"]
 
 _DTYPES = (np.uint8, np.uint16, np.float32, np.float64)
 _TILE_PIXELS = 1 << 17
+#: samples evaluated at once on the NumPy side (bounds memory of adaptive anti-aliasing)
+_SAMPLE_BATCH = 1 << 18
+METHODS = ("auto", "fast", "reference")
+
+
+def check_method(method: str) -> str:
+    """Normalise a render method name, or raise listing the allowed ones."""
+    name = str(method).strip().lower()
+    if name not in METHODS:
+        raise InvalidValueError(
+            f"unknown render method {method!r}; expected one of: {', '.join(METHODS)}"
+        )
+    return name
 
 
 def as_image(image: ArrayLike, name: str = "image") -> NDArray:
@@ -92,10 +121,13 @@ def warp(
     *,
     output_shape: tuple[int, int] | None = None,
     interp: str = "bilinear",
-    supersample: int = 1,
+    supersample: int | None = None,
+    antialias: str | int = "auto",
     background: ArrayLike | None = None,
     alpha: bool = False,
     force: bool = False,
+    method: str = "auto",
+    threads: int | None = None,
 ) -> NDArray:
     """Pull an equirectangular image back through a map of the sphere.
 
@@ -118,8 +150,16 @@ def warp(
         Default: the shape of the (first) input.
     interp : {"bilinear", "nearest", "bicubic"}
         Sampling; case-insensitive.
-    supersample : int
-        Average ``supersample x supersample`` samples per output pixel.
+    supersample : int, optional
+        Above 1: average ``supersample x supersample`` samples in every
+        output pixel (the same as ``antialias=supersample``, and it wins over
+        ``antialias``); 1 or None leave it to ``antialias``.
+    antialias : "auto", "none" or int
+        ``"auto"`` (default): supersample only where an output pixel covers
+        more than about one input pixel, as many samples as its footprint
+        needs (up to 8 x 8), from the map's local magnification; nothing is
+        supersampled where the map does not shrink (a rotation). ``"none"``:
+        one sample a pixel. ``N``: ``N x N`` samples in every pixel.
     background : number or sequence, optional
         Colour where the map is undefined, in the image's units (default 0,
         which for an image with alpha means transparent).
@@ -128,6 +168,12 @@ def warp(
         image that has none (1 or 3 channels).
     force : bool
         Accept inputs that are not 2:1.
+    method : {"auto", "fast", "reference"}
+        ``"auto"``: the compiled fast path when numba is installed, else the
+        NumPy reference path. ``"fast"`` requires numba. ``"reference"``:
+        float64 NumPy only (slow; the yardstick of the tests).
+    threads : int, optional
+        Worker threads of the fast path (default: all cores).
 
     Returns
     -------
@@ -152,6 +198,7 @@ def warp(
         images = [as_image(im, f"image {k}") for k, im in enumerate(image)]
         if not images:
             raise InvalidValueError("expected at least one image, got an empty sequence")
+    images = [im.astype(im.dtype.newbyteorder("="), copy=False) for im in images]
     for k, im in enumerate(images):
         check_equirect(im, force, "image" if len(images) == 1 else f"image {k}")
         if im.dtype != images[0].dtype or im.shape[2] != images[0].shape[2]:
@@ -164,12 +211,12 @@ def warp(
             f"this map samples {inverse_map.n_sheets} input images, got {len(images)}"
         )
     interp = check_interp(interp)
-    if (
-        isinstance(supersample, bool)
-        or not isinstance(supersample, (int, np.integer))
-        or not (1 <= supersample <= 32)
+    aa = _aa.parse_antialias(antialias, supersample)
+    method = check_method(method)
+    if threads is not None and (
+        isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1
     ):
-        raise InvalidValueError(f"expected supersample to be an integer 1..32, got {supersample!r}")
+        raise InvalidValueError(f"expected threads to be a positive integer, got {threads!r}")
     h_in, w_in, channels = images[0].shape
     if output_shape is None:
         output_shape = (h_in, w_in)
@@ -189,7 +236,43 @@ def warp(
     out_channels = channels + (1 if add_alpha else 0)
     out = np.empty((h_out, w_out, out_channels), dtype=dtype)
 
-    n = int(supersample)
+    from . import fast
+
+    if method == "fast" and not fast.available():
+        raise InvalidValueError(
+            "method='fast' needs numba (pip install numba), which is not importable here"
+        )
+    single = inverse_map.n_sheets <= 1
+    if method != "reference" and fast.available():
+        if single:
+            spec = fast.kernel_spec(inverse_map)
+            if spec is not None:
+                fast.render_spec(
+                    images[0], spec, out, interp=interp, aa=aa, background=bg, threads=threads
+                )
+                return out
+        _warp_by_samples(images, inverse_map, out, interp, aa, bg, "fast", threads)
+        return out
+    if aa[0] == "auto":
+        _warp_by_samples(images, inverse_map, out, interp, aa, bg, "reference", None)
+    else:
+        _warp_reference(images, inverse_map, out, interp, aa[1], bg, add_alpha)
+    return out
+
+
+def _warp_reference(
+    images: list[NDArray],
+    inverse_map: SphereMap,
+    out: NDArray,
+    interp: str,
+    n: int,
+    bg: NDArray[np.float32],
+    add_alpha: bool,
+) -> None:
+    """The float64 NumPy reference: ``n x n`` samples a pixel, any number of sheets."""
+    h_out, w_out = out.shape[:2]
+    channels = images[0].shape[2]
+    dtype = images[0].dtype
     offsets = (np.arange(n) + 0.5) / n
     rows_per_tile = max(1, _TILE_PIXELS // (w_out * n * n))
     cols = np.arange(w_out, dtype=np.float64)
@@ -227,7 +310,179 @@ def warp(
             info = np.iinfo(dtype)
             np.clip(np.rint(res), info.min, info.max, out=res)
         out[r0:r1] = res
-    return out
+
+
+def _warp_by_samples(
+    images: list[NDArray],
+    inverse_map: SphereMap,
+    out: NDArray,
+    interp: str,
+    aa: tuple[str, int],
+    bg: NDArray[np.float32],
+    sampler: str,
+    threads: int | None,
+) -> None:
+    """Any map, any anti-aliasing: NumPy geometry, sample lists per pixel.
+
+    Rows are handled in bands; in each, the pixels' sample counts come from
+    the anti-aliasing mode (adaptive: the map's ``local_scale``), and the
+    samples are evaluated in batches of at most ``_SAMPLE_BATCH``. The
+    samples are averaged by the compiled sampler (``sampler="fast"``, one
+    sheet) or by NumPy (``"reference"``, any number of sheets).
+    """
+    if len(images) > 1 and inverse_map.n_sheets > 1:
+        sampler = "reference"
+    h_in, w_in, _ = images[0].shape
+    h_out, w_out, co = out.shape
+    flat = out.reshape(-1)
+    mode, n = aa
+    factors = _aa.footprint_factors((h_in, w_in), (h_out, w_out))
+    factors = (factors[0] * _aa.AUTO_DENSITY, factors[1] * _aa.AUTO_DENSITY)
+    rho_in = min(np.pi / h_in, 2 * np.pi / w_in)
+    band = max(1, (1 << 16) // w_out)
+    cols = np.arange(w_out, dtype=np.float64) + 0.5
+    for r0 in range(0, h_out, band):
+        r1 = min(h_out, r0 + band)
+        # one row more in "auto": the neighbours of the last row, to find jumps
+        r2 = min(h_out, r1 + 1) if mode == "auto" else r1
+        rows = np.arange(r0, r2, dtype=np.float64) + 0.5
+        px = np.stack(np.broadcast_arrays(cols[None, :], rows[:, None]), -1).reshape(-1, 2)
+        lonlat = coords.lonlat_from_pixel(px, w_out, h_out)
+        zw = coords.cp1_from_lonlat(lonlat)
+        pb = inverse_map.pull(zw)
+        if mode == "uniform":
+            nx = np.full(len(px), n, np.int64)
+            ny = nx
+        elif mode == "auto":
+            scale = np.nan_to_num(inverse_map.local_scale(zw), nan=1.0, posinf=1e6)
+            nx, ny = _aa.sample_counts(
+                scale, lonlat[:, 1], factors, _aa.AUTO_TOLERANCE, _aa.AUTO_MAX
+            )
+            shape = (r2 - r0, w_out)
+            valid = None if pb.valid is None else pb.valid.reshape(shape)
+            xyz = coords.xyz_from_cp1(pb.points).reshape(*shape, 3)
+            lat = lonlat[::w_out, 1]
+            if r2 == r1:  # last band: no row below; repeat the last one (no jumps there)
+                xyz = np.concatenate([xyz, xyz[-1:]])
+                scale = np.concatenate([scale, scale[-w_out:]])
+                valid = None if valid is None else np.concatenate([valid, valid[-1:]])
+                lat = np.concatenate([lat, lat[-1:]])
+            jump = _aa.jump_mask(xyz, scale.reshape(-1, w_out), lat, valid, rho_in, h_out).reshape(
+                -1
+            )
+            m = r1 - r0
+            jump = jump[: m * w_out]
+            nx, ny = nx[: m * w_out].copy(), ny[: m * w_out].copy()
+            nx[jump] = np.maximum(nx[jump], _aa.JUMP_SAMPLES)
+            ny[jump] = np.maximum(ny[jump], _aa.JUMP_SAMPLES)
+        else:
+            nx = ny = np.ones(len(px), np.int64)
+        npx = (r1 - r0) * w_out
+        centre = (
+            pb.points[:npx],
+            None if pb.valid is None else pb.valid[:npx],
+            None if pb.sheet is None else pb.sheet[:npx],
+        )
+        counts = nx * ny
+        ends = np.cumsum(counts)
+        p = 0
+        while p < npx:
+            base = ends[p - 1] if p > 0 else 0
+            q = max(p + 1, int(np.searchsorted(ends, base + _SAMPLE_BATCH, side="right")))
+            part = tuple(None if a is None else a[p:q] for a in centre)
+            _sample_pixels(
+                images, inverse_map, px[p:q], nx[p:q], ny[p:q], part, (h_out, w_out),
+                flat, co, r0 * w_out + p, interp, bg, sampler, threads,
+            )  # fmt: skip
+            p = q
+
+
+def _sample_pixels(
+    images: list[NDArray],
+    inverse_map: SphereMap,
+    px: NDArray[np.float64],
+    nx: NDArray[np.int64],
+    ny: NDArray[np.int64],
+    centre: tuple[Any, Any, Any],
+    out_shape: tuple[int, int],
+    flat: NDArray,
+    co: int,
+    p0: int,
+    interp: str,
+    bg: NDArray[np.float32],
+    sampler: str,
+    threads: int | None,
+) -> None:
+    """Average ``nx x ny`` samples in each pixel (centres already pulled back) into ``flat``."""
+    h_out, w_out = out_shape
+    image = images[0]
+    c = image.shape[2]
+    counts = nx * ny
+    start = np.concatenate([[0], np.cumsum(counts)])
+    points, valid, sheet = centre
+    special = counts > 1
+    if np.any(special):
+        sp = np.flatnonzero(special)
+        owner, ox, oy = _aa.subsample_offsets(nx[sp], ny[sp])
+        spx = np.stack([px[sp[owner], 0] - 0.5 + ox, px[sp[owner], 1] - 0.5 + oy], -1)
+        pb = inverse_map.pull(coords.cp1_from_lonlat(coords.lonlat_from_pixel(spx, w_out, h_out)))
+        total = int(start[-1])
+        first = np.cumsum(counts[sp]) - counts[sp]  # of each special pixel's subsamples
+        where_sub = start[sp[owner]] + (np.arange(owner.size) - first[owner])
+        where_one = start[:-1][~special]
+        pts = np.empty((total, 2), np.complex128)
+        pts[where_one] = points[~special]
+        pts[where_sub] = pb.points
+        if valid is None and pb.valid is None:
+            vv = None
+        else:
+            vv = np.ones(total, bool)
+            if valid is not None:
+                vv[where_one] = valid[~special]
+            if pb.valid is not None:
+                vv[where_sub] = pb.valid
+        if sheet is None and pb.sheet is None:
+            ss = None
+        else:
+            ss = np.zeros(total, np.intp)
+            if sheet is not None:
+                ss[where_one] = sheet[~special]
+            if pb.sheet is not None:
+                ss[where_sub] = pb.sheet
+        points, valid, sheet = pts, vv, ss
+    lonlat = coords.lonlat_from_cp1(points)
+    if sampler == "fast":
+        from . import fast
+
+        h_in, w_in = image.shape[:2]
+        src = coords.pixel_from_lonlat(lonlat, w_in, h_in)
+        fast.sample_samples(
+            image, src[:, 0] - 0.5, src[:, 1] - 0.5, valid, start, flat, co, p0,
+            interp=interp, background=bg, threads=threads,
+        )  # fmt: skip
+        return
+    if sheet is None or len(images) == 1:
+        vals = _sample_one(image, lonlat, interp)
+    else:
+        vals = np.zeros((len(lonlat), c), np.float32)
+        for k, im in enumerate(images):
+            sel = sheet == k
+            if np.any(sel):
+                vals[sel] = _sample_one(im, lonlat[sel], interp)
+    if valid is None:
+        cover = counts.astype(np.float32)
+    else:
+        vals[~valid] = 0.0
+        cover = np.add.reduceat(valid.astype(np.float32), start[:-1])
+    acc = np.add.reduceat(vals, start[:-1], axis=0)
+    inv = (np.float32(1.0) / counts.astype(np.float32))[:, None]
+    res = (acc + (counts - cover)[:, None].astype(np.float32) * bg) * inv
+    if co > c:
+        res = np.concatenate([res, cover[:, None] * inv * _full_value(image.dtype)], axis=-1)
+    if image.dtype.kind == "u":
+        info = np.iinfo(image.dtype)
+        np.clip(np.rint(res), info.min, info.max, out=res)
+    flat[p0 * co : (p0 + len(px)) * co] = res.reshape(-1)
 
 
 def _sample_one(image: NDArray, lonlat: NDArray[np.float64], interp: str) -> NDArray[np.float32]:

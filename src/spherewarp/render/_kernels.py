@@ -1,0 +1,894 @@
+"""Compiled kernels of the fast renderer (numba).
+
+This module imports numba at import time; only :mod:`spherewarp.render.fast`
+imports it, and only when a fast render is requested, so ``import
+spherewarp`` stays light. Every kernel is compiled with ``cache=True``: the
+machine code is kept on disk (next to this file, or in numba's user cache
+directory when the package directory is read-only, or in
+``NUMBA_CACHE_DIR``), so a second process pays no compilation.
+
+Layout of the work
+------------------
+The output is cut into tiles of ``TH x TW`` pixels. The entry points take
+``(..., wk, nw)`` and do the share of worker ``wk`` of ``nw`` (tiles dealt
+round-robin); the caller runs the ``nw`` shares on its own threads (the
+kernels release the GIL), which keeps compilation light (no parallel
+accelerator pass) and needs no threading layer. A tile is processed one row
+segment (a *chunk*) at a time, in small buffers that stay in the L1/L2
+cache:
+
+1. directions of the output pixels: ``(T, X, Y, Z) = (1, cos lat cos lon,
+   cos lat sin lon, sin lat)`` from per-row and per-column trig tables (no
+   trigonometry per pixel);
+2. the *stages* of the map (:func:`run_stages`), in application order, act
+   on homogeneous null vectors ``(T, X, Y, Z)`` (the point is ``(X, Y, Z)/T``)
+   and keep the running spherical magnification ``G / T``. A Möbius map is a
+   Lorentz transformation of these vectors: 16 multiply-adds, no division, no
+   trigonometry;
+3. vector -> source pixel: ``lon = atan2(Y, X)``, ``lat = atan2(Z, hypot(X,
+   Y))`` with a branch-free polynomial arctangent accurate to 3e-16
+   (vectorised by LLVM), then ``u = x - 1/2``, ``v = y - 1/2`` (tap space);
+4. sampling, with the same rules as :mod:`spherewarp.render.sampling`:
+   columns wrap, and taps above the top row or below the bottom row fold over
+   the pole (row ``-1 - r``, half a turn in longitude).
+
+Adding a stage kind (a new map family with a compiled kernel)
+-------------------------------------------------------------
+Write ``_stage_<name>(p, T, X, Y, Z, G, valid, n)`` below (``p`` is the
+stage's float64 parameter row; update the point in place, multiply ``G`` by
+the map's own magnification where it normalises ``T`` to 1 (see
+:func:`_stage_lorentz` for the invariant), clear ``valid[k]`` where the map is
+undefined), give it a code ``STAGE_<NAME>`` and add its branch to
+:func:`run_stages`; then register the name in
+``spherewarp.render.fast.STAGE_KINDS``.
+
+Unaligned loads
+---------------
+The uint8 bilinear path reads two neighbouring pixels at once with one
+unaligned 8-byte load: the image's bytes are viewed as ``uint64`` with a
+stride of ``C`` bytes (``C`` = channels, 1-4), and results are written with
+overlapping unaligned 4-byte stores. x86-64 and AArch64 allow both; the
+caller only takes this path on those machines.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+# Only contraction (FMA) and signless zeros: 'reassoc' rewrites (1 - t) a + t b as
+# a + t (b - a), which is not exact at t = 1; 'nnan'/'ninf' would break the selects that
+# discard NaN lanes; 'afn'/'arcp' may use approximate sqrt/reciprocals.
+_FM = {"contract", "nsz"}
+_H = {"cache": True, "nogil": True, "fastmath": _FM}  # helpers
+_P = {"cache": True, "nogil": True, "fastmath": _FM}  # entry points: (..., wk, nw)
+
+PI = math.pi
+HALF_PI = 0.5 * math.pi
+
+#: stage codes (see :func:`run_stages`)
+STAGE_LORENTZ = 1
+
+#: interpolation codes
+NEAREST = 0
+BILINEAR = 1
+BICUBIC = 2
+
+#: max subsamples buffered at once in the anti-aliasing pass (>= 32 * 32)
+SUB_BATCH = 2048
+
+# Near-minimax polynomial of atan(a)/a in s = a^2 on [0, 1] (degree 18,
+# Chebyshev interpolation in 50-digit arithmetic): |error of atan| < 3e-16.
+_A0 = 0.9999999999999998
+_A1 = -0.333333333333188
+_A2 = 0.19999999998244405
+_A3 = -0.14285714201153485
+_A4 = 0.11111108947215684
+_A5 = -0.09090875100099982
+_A6 = 0.07691950418796795
+_A7 = -0.06664007607654046
+_A8 = 0.05867776001706719
+_A9 = -0.052025829246698206
+_A10 = 0.045668724719449945
+_A11 = -0.03852606834610674
+_A12 = 0.02992405293802711
+_A13 = -0.02033087003302746
+_A14 = 0.011430023675054508
+_A15 = -0.0050003664537326496
+_A16 = 0.0015739493241755762
+_A17 = -0.00031420077366807334
+_A18 = 2.969635660165779e-05
+
+
+# -- geometry --------------------------------------------------------------------------------------
+@njit(inline="always", **_H)
+def atan2_poly(y: float, x: float) -> float:
+    """``atan2(y, x)`` in ``[-pi, pi]``, branch-free (vectorisable), error < 5e-16."""
+    ax = abs(x)
+    ay = abs(y)
+    mx = max(ax, ay)
+    mn = min(ax, ay)
+    a = mn / mx if mx > 0.0 else 0.0
+    s = a * a
+    p = _A18
+    p = p * s + _A17
+    p = p * s + _A16
+    p = p * s + _A15
+    p = p * s + _A14
+    p = p * s + _A13
+    p = p * s + _A12
+    p = p * s + _A11
+    p = p * s + _A10
+    p = p * s + _A9
+    p = p * s + _A8
+    p = p * s + _A7
+    p = p * s + _A6
+    p = p * s + _A5
+    p = p * s + _A4
+    p = p * s + _A3
+    p = p * s + _A2
+    p = p * s + _A1
+    p = p * s + _A0
+    r = p * a
+    r = HALF_PI - r if ay > ax else r
+    r = PI - r if x < 0.0 else r
+    return -r if y < 0.0 else r
+
+
+@njit(**_H)
+def _stage_lorentz(p, T, X, Y, Z, n):
+    """A Möbius map as the Lorentz matrix ``p[0:16]`` (row-major) on ``(T, X, Y, Z)``.
+
+    Linear, so ``T`` is not normalised and the magnification ``G / T`` needs
+    no update: for a null vector with ``T = 1`` the sphere map's magnification
+    is ``1 / T'``.
+    """
+    l00 = p[0]
+    l01 = p[1]
+    l02 = p[2]
+    l03 = p[3]
+    l10 = p[4]
+    l11 = p[5]
+    l12 = p[6]
+    l13 = p[7]
+    l20 = p[8]
+    l21 = p[9]
+    l22 = p[10]
+    l23 = p[11]
+    l30 = p[12]
+    l31 = p[13]
+    l32 = p[14]
+    l33 = p[15]
+    for k in range(n):
+        t = T[k]
+        x = X[k]
+        y = Y[k]
+        z = Z[k]
+        T[k] = l00 * t + l01 * x + l02 * y + l03 * z
+        X[k] = l10 * t + l11 * x + l12 * y + l13 * z
+        Y[k] = l20 * t + l21 * x + l22 * y + l23 * z
+        Z[k] = l30 * t + l31 * x + l32 * y + l33 * z
+
+
+@njit(**_H)
+def run_stages(codes, params, T, X, Y, Z, G, valid, n):
+    """Apply the stages of a map, in order, to the first ``n`` points."""
+    for s in range(codes.shape[0]):
+        code = codes[s]
+        if code == STAGE_LORENTZ:
+            _stage_lorentz(params[s], T, X, Y, Z, n)
+        # New kinds: elif code == STAGE_<NAME>: _stage_<name>(params[s], T, X, Y, Z, G, valid, n)
+
+
+@njit(**_H)
+def to_source(X, Y, Z, n, kx, ky, u, v):
+    """Tap-space source coordinates ``u = x - 1/2``, ``v = y - 1/2`` of the points."""
+    for k in range(n):
+        x = X[k]
+        y = Y[k]
+        z = Z[k]
+        lon = atan2_poly(y, x)
+        lat = atan2_poly(z, math.sqrt(x * x + y * y))
+        u[k] = (lon + PI) * kx - 0.5
+        v[k] = (HALF_PI - lat) * ky - 0.5
+
+
+@njit(**_H)
+def mobius_to_source(cl, sl, cc, cs, p, n, kx, ky, T, u, v):
+    """The common case fused: one Lorentz stage, from the row's and columns' trig
+    tables straight to tap-space source coordinates (and ``T``; the
+    magnification is ``1 / T``)."""
+    sl0 = p[0] + p[3] * sl
+    sl1 = p[4] + p[7] * sl
+    sl2 = p[8] + p[11] * sl
+    sl3 = p[12] + p[15] * sl
+    c01 = p[1] * cl
+    c02 = p[2] * cl
+    c11 = p[5] * cl
+    c12 = p[6] * cl
+    c21 = p[9] * cl
+    c22 = p[10] * cl
+    c31 = p[13] * cl
+    c32 = p[14] * cl
+    for k in range(n):
+        x = cc[k]
+        y = cs[k]
+        T[k] = sl0 + c01 * x + c02 * y
+        X = sl1 + c11 * x + c12 * y
+        Y = sl2 + c21 * x + c22 * y
+        Z = sl3 + c31 * x + c32 * y
+        lon = atan2_poly(Y, X)
+        lat = atan2_poly(Z, math.sqrt(X * X + Y * Y))
+        u[k] = (lon + PI) * kx - 0.5
+        v[k] = (HALF_PI - lat) * ky - 0.5
+
+
+@njit(**_H)
+def _directions(cl, sl, cc, cs, n, T, X, Y, Z, G, valid):
+    for k in range(n):
+        T[k] = 1.0
+        X[k] = cl * cc[k]
+        Y[k] = cl * cs[k]
+        Z[k] = sl
+        G[k] = 1.0
+        valid[k] = 1
+
+
+@njit(**_H)
+def _counts(T, G, valid, n, cl, aa_kx, aa_ky, tol, cap, uniform, nx, ny, special):
+    """Samples per output pixel (``nx x ny``) from the magnification ``G / T``."""
+    nsp = 0
+    for k in range(n):
+        if uniform > 0:
+            a = uniform
+            b = uniform
+        else:
+            s = G[k] / T[k]
+            fa = math.ceil(s * aa_kx * cl - tol)
+            fb = math.ceil(s * aa_ky - tol)
+            a = int(min(max(fa, 1.0), cap))
+            b = int(min(max(fb, 1.0), cap))
+        nx[k] = a
+        ny[k] = b
+        sp = (a * b > 1) or (valid[k] == 0)
+        special[k] = sp
+        nsp += sp
+    return nsp
+
+
+# -- sampling, any dtype (float32 arithmetic, as spherewarp.render.sampling) -----------------------
+@njit(**_H)
+def _fold(iy, ix, h, w):
+    if iy < 0:
+        iy = -1 - iy
+        ix += w // 2
+    elif iy >= h:
+        iy = 2 * h - 1 - iy
+        ix += w // 2
+    iy = min(max(iy, 0), h - 1)
+    return iy, ix % w
+
+
+@njit(**_H)
+def _cubic(t):
+    a = np.float32(-0.5)
+    t2 = t * t
+    t3 = t2 * t
+    w0 = a * (t3 - 2 * t2 + t)
+    w1 = (a + 2) * t3 - (a + 3) * t2 + 1
+    w2 = -(a + 2) * t3 + (2 * a + 3) * t2 - a * t
+    w3 = a * (t2 - t3)
+    return w0, w1, w2, w3
+
+
+@njit(**_H)
+def _get(img, iy, ix, ch):
+    """Pixel value of the image bundle ``img`` as float32 (see ``fast._image_bundle``)."""
+    dt = img[4]
+    if dt == 0:
+        return np.float32(img[0][iy, ix, ch])
+    if dt == 1:
+        return np.float32(img[1][iy, ix, ch])
+    if dt == 2:
+        return img[2][iy, ix, ch]
+    return np.float32(img[3][iy, ix, ch])
+
+
+@njit(**_H)
+def _put(dst, i, r):
+    """Store element ``i`` of the flat output bundle ``dst`` (``r`` already rounded)."""
+    dt = dst[4]
+    if dt == 0:
+        dst[0][i] = r
+    elif dt == 1:
+        dst[1][i] = r
+    elif dt == 2:
+        dst[2][i] = r
+    else:
+        dst[3][i] = r
+
+
+@njit(**_H)
+def acc_sample(img, u, v, interp, acc, j):
+    """``acc[j, :] += sample of the image at tap-space (u, v)`` (float32)."""
+    h = img[5]
+    w = img[6]
+    c = img[7]
+    if interp == NEAREST:
+        iy, ix = _fold(int(math.floor(v + 0.5)), int(math.floor(u + 0.5)), h, w)
+        for ch in range(c):
+            acc[j, ch] += _get(img, iy, ix, ch)
+        return
+    x0f = math.floor(u)
+    y0f = math.floor(v)
+    tx = np.float32(u - x0f)
+    ty = np.float32(v - y0f)
+    x0 = int(x0f)
+    y0 = int(y0f)
+    if interp == BILINEAR:
+        one = np.float32(1.0)
+        for dy in range(2):
+            wy = one - ty if dy == 0 else ty
+            iya, ixa = _fold(y0 + dy, x0, h, w)
+            iyb, ixb = _fold(y0 + dy, x0 + 1, h, w)
+            for ch in range(c):
+                row = (one - tx) * _get(img, iya, ixa, ch) + tx * _get(img, iyb, ixb, ch)
+                acc[j, ch] += wy * row
+        return
+    wx0, wx1, wx2, wx3 = _cubic(tx)
+    wy0, wy1, wy2, wy3 = _cubic(ty)
+    for dy in range(4):
+        wy = wy0 if dy == 0 else (wy1 if dy == 1 else (wy2 if dy == 2 else wy3))
+        iy0, ix0 = _fold(y0 + dy - 1, x0 - 1, h, w)
+        iy1, ix1 = _fold(y0 + dy - 1, x0, h, w)
+        iy2, ix2 = _fold(y0 + dy - 1, x0 + 1, h, w)
+        iy3, ix3 = _fold(y0 + dy - 1, x0 + 2, h, w)
+        for ch in range(c):
+            row = (
+                wx0 * _get(img, iy0, ix0, ch)
+                + wx1 * _get(img, iy1, ix1, ch)
+                + wx2 * _get(img, iy2, ix2, ch)
+                + wx3 * _get(img, iy3, ix3, ch)
+            )
+            acc[j, ch] += wy * row
+
+
+@njit(**_H)
+def finish_pixel(acc, j, cover, count, bg, dst, q, c, co, is_int, maxval, full):
+    """Write pixel ``q`` of the flat output ``dst`` (``co`` values a pixel) from ``acc[j]``.
+
+    ``count`` samples were taken, ``cover`` of them defined; the rest are
+    background. With ``co == c + 1`` the last channel is the coverage (alpha).
+    """
+    inv = np.float32(1.0) / np.float32(count)
+    miss = np.float32(count - cover)
+    for ch in range(c):
+        r = (acc[j, ch] + miss * bg[ch]) * inv
+        if is_int:
+            r = min(max(np.rint(r), np.float32(0.0)), maxval)
+        _put(dst, q * co + ch, r)
+    if co > c:
+        r = np.float32(cover) * inv * full
+        if is_int:
+            r = min(max(np.rint(r), np.float32(0.0)), maxval)
+        _put(dst, q * co + c, r)
+
+
+@njit(**_H)
+def _subsamples(
+    k0, n, special, nx, ny, cl, sl, cc, cs, tabs,
+    codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8,
+):  # fmt: skip
+    """Supersample the special pixels of a chunk into ``acc``/``cover``.
+
+    Subsample directions come from the pixel centre's by angle addition with
+    the tables ``tabs[0..3][n, m]`` (cos/sin of the column and row offsets of
+    subsample ``m`` of ``n``), so no trigonometry per subsample either.
+    ``u8`` bundles the uint8 fast path's views and batch buffers (its first
+    item says whether to use it).
+    """
+    ST = bufs[0]
+    SX = bufs[1]
+    SY = bufs[2]
+    SZ = bufs[3]
+    SG = bufs[4]
+    xc = tabs[0]
+    xs = tabs[1]
+    yc = tabs[2]
+    ys = tabs[3]
+    nb = 0
+    for k in range(k0, n):
+        if not special[k]:
+            continue
+        a = nx[k]
+        b = ny[k]
+        if nb + a * b > SUB_BATCH:
+            _flush(nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8)
+            nb = 0
+        for jb in range(b):
+            dc = yc[b, jb]
+            ds = ys[b, jb]
+            cls = cl * dc + sl * ds
+            sls = sl * dc - cl * ds
+            for ja in range(a):
+                ec = xc[a, ja]
+                es = xs[a, ja]
+                ST[nb] = 1.0
+                SX[nb] = cls * (cc[k] * ec - cs[k] * es)
+                SY[nb] = cls * (cs[k] * ec + cc[k] * es)
+                SZ[nb] = sls
+                SG[nb] = 1.0
+                sv[nb] = 1
+                own[nb] = k
+                nb += 1
+    if nb > 0:
+        _flush(nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8)
+
+
+@njit(**_H)
+def _flush(nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8):
+    ST = bufs[0]
+    SX = bufs[1]
+    SY = bufs[2]
+    SZ = bufs[3]
+    SG = bufs[4]
+    SU = bufs[5]
+    SV = bufs[6]
+    run_stages(codes, params, ST, SX, SY, SZ, SG, sv, nb)
+    to_source(SX, SY, SZ, nb, kx, ky, SU, SV)
+    if u8[0]:
+        _, p64, tail, big, big_w, shift, lom, boa, bob, bwt, bqa, bqb, bres = u8
+        hi = img[5]
+        wi = img[6]
+        c = img[7]
+        taps_u8(SU, SV, nb, wi, hi, big, boa, bob, bwt)
+        gather_u8(p64, tail, big, big_w, shift, lom, boa, bob, bqa, bqb, nb)
+        blend_u8(bqa, bqb, bwt, bres, nb, c)
+        for q in range(nb):
+            if sv[q]:
+                j = own[q]
+                r = bres[q]
+                for ch in range(c):
+                    acc[j, ch] += np.float32((r >> np.uint32(8 * ch)) & np.uint32(255))
+                cover[j] += 1
+        return
+    for q in range(nb):
+        if sv[q]:
+            acc_sample(img, SU[q], SV[q], interp, acc, own[q])
+            cover[own[q]] += 1
+
+
+# -- uint8 bilinear: two taps a load, fixed-point weights -----------------------------------------
+_SEAM = np.int32(-2147483648)
+_LOW31 = np.int32(0x7FFFFFFF)
+
+
+@njit(**_H)
+def taps_u8(u, v, n, w_in, h_in, big, oa, ob, wt):
+    """Fixed-point taps of tap-space ``(u, v)``: top-left pixel index of the top
+    row (``oa``) and of the bottom row (``ob``), weights ``tx | ty << 8`` in
+    1/256 pixel (rounded to nearest). The sign bit marks a pair that is not two
+    neighbours in memory (seam, or a pixel past ``big``): the slow path loads it.
+    """
+    W = np.int32(w_in)
+    H = np.int32(h_in)
+    half = W // np.int32(2)
+    one = np.int32(1)
+    zero = np.int32(0)
+    bigi = np.int32(big)
+    for k in range(n):
+        xi = np.int32(u[k] * 256.0 + 1024.5)
+        yi = np.int32(v[k] * 256.0 + 1024.5)
+        x0 = (xi >> np.int32(8)) - np.int32(4)
+        y0 = (yi >> np.int32(8)) - np.int32(4)
+        tx = xi & np.int32(255)
+        ty = yi & np.int32(255)
+        x0 = x0 + W if x0 < zero else x0
+        x0 = x0 - W if x0 >= W else x0
+        xs = x0 + half
+        xs = xs - W if xs >= W else xs
+        top = y0 < zero
+        bot = y0 + one >= H
+        ya = zero if top else y0
+        ya = H - one if ya >= H else ya
+        yb = H - one if bot else y0 + one
+        xa = xs if top else x0
+        xb = xs if bot else x0
+        ia = ya * W + xa
+        ib = yb * W + xb
+        oa[k] = ia | _SEAM if (xa == W - one) or (ia >= bigi) else ia
+        ob[k] = ib | _SEAM if (xb == W - one) or (ib >= bigi) else ib
+        wt[k] = np.uint16(tx | (ty << np.int32(8)))
+
+
+@njit(**_H)
+def _pair_slow(p64, tail, big, w_in, shift, lom, code):
+    i = np.int64(code & _LOW31)
+    lo = p64[i] if i < big else tail[i - big]
+    if i % w_in == w_in - 1:
+        j = i - w_in + 1
+        hi = p64[j] if j < big else tail[j - big]
+        lo = (lo & lom) | (hi << shift)
+    return lo
+
+
+@njit(**_H)
+def gather_u8(p64, tail, big, w_in, shift, lom, oa, ob, qa, qb, n):
+    for k in range(n):
+        a = oa[k]
+        b = ob[k]
+        if (a | b) >= 0:
+            qa[k] = p64[np.uint32(a)]
+            qb[k] = p64[np.uint32(b)]
+        else:
+            qa[k] = _pair_slow(p64, tail, big, w_in, shift, lom, a)
+            qb[k] = _pair_slow(p64, tail, big, w_in, shift, lom, b)
+
+
+@njit(**_H)
+def gather_u8_cached(p64, tail, big, w_in, shift, lom, oa, qa, qb, n):
+    """Like :func:`gather_u8` with the lower pair ``w_in`` pixels after the upper one."""
+    for k in range(n):
+        a = oa[k]
+        if a >= 0:
+            qa[k] = p64[np.uint32(a)]
+            qb[k] = p64[np.uint32(a) + np.uint32(w_in)]
+        else:
+            b = (a & _LOW31) + np.int32(w_in)
+            qa[k] = _pair_slow(p64, tail, big, w_in, shift, lom, a)
+            qb[k] = _pair_slow(p64, tail, big, w_in, shift, lom, b | _SEAM)
+
+
+@njit(inline="always", **_H)
+def _blend_c(qa, qb, wt, res, n, c):
+    sh = np.uint64(8 * c)
+    for k in range(n):
+        ww = np.uint32(wt[k])
+        tx = ww & np.uint32(255)
+        ty = ww >> np.uint32(8)
+        ux = np.uint32(256) - tx
+        uy = np.uint32(256) - ty
+        q0 = qa[k]
+        q1 = qb[k]
+        r = np.uint32(0)
+        for ch in range(c):
+            s0 = np.uint64(8 * ch)
+            s1 = s0 + sh
+            top = (
+                np.uint32((q0 >> s0) & np.uint64(255)) * ux
+                + np.uint32((q0 >> s1) & np.uint64(255)) * tx
+            )
+            bot = (
+                np.uint32((q1 >> s0) & np.uint64(255)) * ux
+                + np.uint32((q1 >> s1) & np.uint64(255)) * tx
+            )
+            val = (top * uy + bot * ty + np.uint32(32768)) >> np.uint32(16)
+            r |= val << np.uint32(8 * ch)
+        res[k] = r
+
+
+@njit(**_H)
+def blend_u8(qa, qb, wt, res, n, c):
+    """Bilinear blend of the pairs in 8.8 fixed point, rounded; packed result.
+
+    One branch per channel count, so that the channel loop is unrolled.
+    """
+    if c == 3:
+        _blend_c(qa, qb, wt, res, n, 3)
+    elif c == 4:
+        _blend_c(qa, qb, wt, res, n, 4)
+    elif c == 1:
+        _blend_c(qa, qb, wt, res, n, 1)
+    else:
+        _blend_c(qa, qb, wt, res, n, 2)
+
+
+@njit(**_H)
+def store_u8(res, o32, p0, obytes, b0, n, c, spill):
+    """Write ``n`` packed pixels from pixel ``p0`` (byte ``b0``): overlapping
+    4-byte stores, then the last ``spill`` pixels byte by byte (their 4-byte
+    store would run into the next tile or row)."""
+    m = n - spill if n > spill else 0
+    o = o32[p0 : p0 + m]
+    for k in range(m):
+        o[k, 0] = res[k]
+    for k in range(m, n):
+        r = res[k]
+        for ch in range(c):
+            obytes[b0 + k * c + ch] = np.uint8((r >> np.uint32(8 * ch)) & np.uint32(255))
+
+
+# -- tiles -----------------------------------------------------------------------------------------
+@njit(**_H)
+def _tile(t, ntx, th, tw, ho, wo):
+    ty0 = (t // ntx) * th
+    tx0 = (t % ntx) * tw
+    return ty0, tx0, min(th, ho - ty0), min(tw, wo - tx0)
+
+
+@njit(**_P)
+def render_spec(
+    img, p64, tail, big, o32, dst, ho, wo, co, fast_u8,
+    codes, params, ccos, csin, tabs, kx, ky,
+    do_aa, aa_kx, aa_ky, tol, cap, uniform,
+    interp, bg, is_int, maxval, full, th, tw, wk, nw,
+):  # fmt: skip
+    """Render an equirectangular output through the stages of a map.
+
+    ``img``, ``dst``: input and flat output bundles (one array per sample
+    type, so that one compiled kernel serves them all; see
+    ``fast._image_bundle``). ``fast_u8``: uint8 bilinear through the
+    two-taps-a-load path (``p64``, ``tail``, ``o32`` are the unaligned views);
+    otherwise the float32 sampler. ``do_aa``: compute samples per pixel
+    (``uniform > 0``: that many per axis; else adaptive from the magnification).
+    """
+    hi = img[5]
+    wi = img[6]
+    c = img[7]
+    obytes = dst[0]
+    nty = (ho + th - 1) // th
+    ntx = (wo + tw - 1) // tw
+    ntiles = nty * ntx
+    big_w = np.int64(wi)
+    shift = np.uint64(8 * c)
+    lom = (np.uint64(1) << shift) - np.uint64(1)
+    spill = (4 - c + c - 1) // c
+    nsb = SUB_BATCH if do_aa else 1
+    # Worker wk of nw (threads of the caller): scratch is allocated once; rows of tiles
+    # are dealt out round-robin, and each row is walked left to right (cache locality).
+    f64s = np.empty((7, tw))
+    T = f64s[0]
+    X = f64s[1]
+    Y = f64s[2]
+    Z = f64s[3]
+    G = f64s[4]
+    U = f64s[5]
+    V = f64s[6]
+    u8s = np.empty((2, tw), np.uint8)
+    valid = u8s[0]
+    special = u8s[1]
+    i64s = np.empty((3, tw), np.int64)
+    nx = i64s[0]
+    ny = i64s[1]
+    cover = i64s[2]
+    acc = np.empty((tw, c), np.float32)
+    i32s = np.empty((2, tw), np.int32)
+    oa = i32s[0]
+    ob = i32s[1]
+    wt = np.empty(tw, np.uint16)
+    qs = np.empty((2, tw), np.uint64)
+    qa = qs[0]
+    qb = qs[1]
+    res = np.empty(tw, np.uint32)
+    bufs = np.empty((7, nsb))
+    own = np.empty(nsb, np.int64)
+    sv = np.empty(nsb, np.uint8)
+    mob1 = codes.shape[0] == 1 and codes[0] == STAGE_LORENTZ  # the common case, fused
+    G[:] = 1.0
+    valid[:] = 1
+    nu8 = nsb if fast_u8 else 1
+    bi32 = np.empty((2, nu8), np.int32)
+    bq = np.empty((2, nu8), np.uint64)
+    u8 = (
+        fast_u8, p64, tail, big, big_w, shift, lom, bi32[0], bi32[1],
+        np.empty(nu8, np.uint16), bq[0], bq[1], np.empty(nu8, np.uint32),
+    )  # fmt: skip
+    for tt in range(ntiles):
+        if (tt // ntx) % nw != wk:
+            continue
+        ty0, tx0, h, w = _tile(tt, ntx, th, tw, ho, wo)
+        cc = ccos[tx0 : tx0 + w]
+        cs = csin[tx0 : tx0 + w]
+        for r in range(h):
+            i = ty0 + r
+            lat = HALF_PI - PI * (i + 0.5) / ho
+            cl = math.cos(lat)
+            sl = math.sin(lat)
+            if mob1:
+                mobius_to_source(cl, sl, cc, cs, params[0], w, kx, ky, T, U, V)
+            else:
+                _directions(cl, sl, cc, cs, w, T, X, Y, Z, G, valid)
+                run_stages(codes, params, T, X, Y, Z, G, valid, w)
+                to_source(X, Y, Z, w, kx, ky, U, V)
+            nsp = 0
+            if do_aa:
+                nsp = _counts(T, G, valid, w, cl, aa_kx, aa_ky, tol, cap, uniform, nx, ny, special)
+            else:
+                for k in range(w):
+                    special[k] = valid[k] == 0
+                    nsp += special[k]
+                    nx[k] = 1
+                    ny[k] = 1
+            p0 = i * wo + tx0
+            if fast_u8:
+                taps_u8(U, V, w, wi, hi, big, oa, ob, wt)
+                gather_u8(p64, tail, big, big_w, shift, lom, oa, ob, qa, qb, w)
+                blend_u8(qa, qb, wt, res, w, c)
+                store_u8(res, o32, p0, obytes, p0 * c, w, c, spill)
+                if nsp == 0:
+                    continue
+            acc[:w] = 0.0
+            cover[:w] = 0
+            if not fast_u8:
+                for k in range(w):
+                    if not special[k]:
+                        acc_sample(img, U[k], V[k], interp, acc, k)
+                        cover[k] = 1
+            if nsp > 0:
+                _subsamples(
+                    0, w, special, nx, ny, cl, sl, cc, cs, tabs,
+                    codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8,
+                )  # fmt: skip
+            for k in range(w):
+                if special[k] or not fast_u8:
+                    finish_pixel(
+                        acc, k, cover[k], nx[k] * ny[k], bg, dst, p0 + k, c, co,
+                        is_int, maxval, full,
+                    )  # fmt: skip
+
+
+@njit(**_P)
+def spec_coords(codes, params, ccos, csin, r0, ho, kx, ky, u, v, scale, valid, wk, nw):
+    """Tap-space source coordinates, magnification and validity of rows
+    ``r0 .. r0 + len(u)`` of an equirectangular output (for caches and tests)."""
+    nr, wo = u.shape
+    for r in range(wk, nr, nw):
+        i = r0 + r
+        lat = HALF_PI - PI * (i + 0.5) / ho
+        cl = math.cos(lat)
+        sl = math.sin(lat)
+        T = np.empty(wo)
+        X = np.empty(wo)
+        Y = np.empty(wo)
+        Z = np.empty(wo)
+        G = np.empty(wo)
+        vr = valid[r]
+        _directions(cl, sl, ccos, csin, wo, T, X, Y, Z, G, vr)
+        run_stages(codes, params, T, X, Y, Z, G, vr, wo)
+        to_source(X, Y, Z, wo, kx, ky, u[r], v[r])
+        sr = scale[r]
+        for k in range(wo):
+            sr[k] = G[k] / T[k]
+
+
+@njit(**_P)
+def spec_subsample_coords(codes, params, ho, wo, kx, ky, py, px, oy, ox, u, v, valid, wk, nw):
+    """Source coordinates of subsamples at output ``(px + ox, py + oy)`` (pixel
+    index plus offset in [0, 1)); direct trigonometry (used when building caches)."""
+    n = py.shape[0]
+    nchunk = (n + 1023) // 1024
+    for ci in range(wk, nchunk, nw):
+        a = ci * 1024
+        m = min(1024, n - a)
+        T = np.empty(m)
+        X = np.empty(m)
+        Y = np.empty(m)
+        Z = np.empty(m)
+        G = np.empty(m)
+        vv = valid[a : a + m]
+        for k in range(m):
+            lat = HALF_PI - PI * (py[a + k] + oy[a + k]) / ho
+            lon = 2.0 * PI * (px[a + k] + ox[a + k]) / wo - PI
+            cl = math.cos(lat)
+            T[k] = 1.0
+            X[k] = cl * math.cos(lon)
+            Y[k] = cl * math.sin(lon)
+            Z[k] = math.sin(lat)
+            G[k] = 1.0
+            vv[k] = 1
+        run_stages(codes, params, T, X, Y, Z, G, vv, m)
+        to_source(X, Y, Z, m, kx, ky, u[a : a + m], v[a : a + m])
+
+
+# -- samples given as coordinates (any map), and cached maps ---------------------------------------
+@njit(**_P)
+def sample_csr(img, u, v, valid, start, interp, bg, dst, co, p0, is_int, maxval, full, wk, nw):
+    """Pixels ``p0 + j`` of ``dst`` (flat, ``co`` values a pixel) = mean of the
+    samples ``start[j]:start[j+1]``.
+
+    ``u, v``: tap-space coordinates of the samples; ``valid``: 0 for samples
+    where the map is undefined (they count as background).
+    """
+    c = img[7]
+    npx = start.shape[0] - 1
+    nblk = (npx + 255) // 256
+    for bi in range(wk, nblk, nw):
+        j0 = bi * 256
+        m = min(256, npx - j0)
+        acc = np.zeros((m, c), np.float32)
+        for j in range(m):
+            cov = 0
+            for s in range(start[j0 + j], start[j0 + j + 1]):
+                if valid[s]:
+                    acc_sample(img, u[s], v[s], interp, acc, j)
+                    cov += 1
+            finish_pixel(
+                acc, j, cov, start[j0 + j + 1] - start[j0 + j], bg, dst, p0 + j0 + j,
+                c, co, is_int, maxval, full,
+            )  # fmt: skip
+
+
+@njit(**_P)
+def apply_cache(
+    img, p64, tail, big, o32, dst, ho, wo, co, fast_u8, oa, wt, th, tw,
+    sp_pix, sp_start, sp_u, sp_v, sp_valid, sp_tile, interp, bg, is_int, maxval, full, wk, nw,
+):  # fmt: skip
+    """Apply a cached map: the top-left tap and weights of each pixel (tile-major,
+    see :func:`taps_u8`; the lower taps are ``wi`` pixels further on; none for a
+    map whose pixels are all special), then the special pixels (anti-aliased,
+    partly undefined, folded over a pole, or not bilinear) from their sample
+    lists."""
+    wi = img[6]
+    c = img[7]
+    obytes = dst[0]
+    nty = (ho + th - 1) // th
+    ntx = (wo + tw - 1) // tw
+    ntiles = nty * ntx
+    big_w = np.int64(wi)
+    shift = np.uint64(8 * c)
+    lom = (np.uint64(1) << shift) - np.uint64(1)
+    spill = (4 - c + c - 1) // c
+    one = np.float32(1.0)
+    inv = one / np.float32(256.0)
+    qs = np.empty((2, tw), np.uint64)
+    qa = qs[0]
+    qb = qs[1]
+    res = np.empty(tw, np.uint32)
+    acc = np.empty((1, c), np.float32)
+    for t in range(ntiles):
+        if (t // ntx) % nw != wk:
+            continue
+        ty0, tx0, h, w = _tile(t, ntx, th, tw, ho, wo)
+        base = ty0 * wo + tx0 * h
+        for r in range(h):
+            o = base + r * w
+            p0 = (ty0 + r) * wo + tx0
+            if fast_u8:
+                gather_u8_cached(p64, tail, big, big_w, shift, lom, oa[o : o + w], qa, qb, w)
+                blend_u8(qa, qb, wt[o : o + w], res, w, c)
+                store_u8(res, o32, p0, obytes, p0 * c, w, c, spill)
+            elif oa.shape[0] > 0:
+                for k in range(w):
+                    a = np.int64(oa[o + k] & _LOW31)
+                    b = a + big_w
+                    a1 = a + 1 if (a % big_w) != big_w - 1 else a - big_w + 1
+                    b1 = b + 1 if (b % big_w) != big_w - 1 else b - big_w + 1
+                    ww = wt[o + k]
+                    tx = np.float32(ww & 255) * inv
+                    ty = np.float32(ww >> 8) * inv
+                    ya = a // big_w
+                    ya1 = a1 // big_w
+                    yb = b // big_w
+                    yb1 = b1 // big_w
+                    xa = a - ya * big_w
+                    xa1 = a1 - ya1 * big_w
+                    xb = b - yb * big_w
+                    xb1 = b1 - yb1 * big_w
+                    for ch in range(c):
+                        top = (one - tx) * _get(img, ya, xa, ch) + tx * _get(img, ya1, xa1, ch)
+                        bot = (one - tx) * _get(img, yb, xb, ch) + tx * _get(img, yb1, xb1, ch)
+                        acc[0, ch] = (one - ty) * top + ty * bot
+                    finish_pixel(acc, 0, 1, 1, bg, dst, p0 + k, c, co, is_int, maxval, full)
+        for q in range(sp_tile[t], sp_tile[t + 1]):
+            acc[0, :] = 0.0
+            cov = 0
+            for s in range(sp_start[q], sp_start[q + 1]):
+                if sp_valid[s]:
+                    acc_sample(img, np.float64(sp_u[s]), np.float64(sp_v[s]), interp, acc, 0)
+                    cov += 1
+            finish_pixel(
+                acc, 0, cov, sp_start[q + 1] - sp_start[q], bg, dst, sp_pix[q],
+                c, co, is_int, maxval, full,
+            )  # fmt: skip
+
+
+@njit(**_P)
+def build_taps(u, v, w_in, h_in, big, oa, ob, wt, wk, nw):
+    """Fixed-point taps (see :func:`taps_u8`) of rows of tap-space coordinates,
+    written in order to the flat ``oa``, ``ob``, ``wt``."""
+    nr, n = u.shape
+    for r in range(wk, nr, nw):
+        taps_u8(u[r], v[r], n, w_in, h_in, big, oa[r * n : (r + 1) * n],
+                ob[r * n : (r + 1) * n], wt[r * n : (r + 1) * n])  # fmt: skip

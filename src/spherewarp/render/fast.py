@@ -1,0 +1,500 @@
+"""The fast renderer: compiled kernels for maps that describe themselves as stages.
+
+A map that can be evaluated inside the compiled kernel says so through
+:meth:`~spherewarp.maps.SphereMap.kernel_stages`: a tuple of
+``(kind, params)`` pairs in application order (``params`` a float64 array).
+:func:`kernel_spec` turns a map (a :class:`~spherewarp.maps.base.Composite`
+too) into a :class:`KernelSpec`: consecutive Möbius stages are multiplied
+into one, and each Möbius stage becomes a 4x4 Lorentz matrix acting on
+homogeneous null vectors ``(t, x, y, z)`` of the sphere, so a Möbius
+pull-back costs 16 multiply-adds per pixel and no trigonometry until the
+final vector -> pixel step. Maps without stages still get compiled sampling
+(:func:`sample_samples`) with their coordinates computed by NumPy.
+
+Known kinds (:data:`STAGE_KINDS`):
+
+``"mobius"``
+    8 floats: the real and imaginary parts of ``a, b, c, d`` of an SL(2, C)
+    matrix ``[[a, b], [c, d]]`` acting on ``(z, w)`` (the default chart).
+
+How a new map family adds its compiled kernel:
+
+1. in the map class, return its stages from ``kernel_stages()`` (e.g.
+   ``(("mobius", pre), ("power", np.array([n])), ("mobius", post))``;
+2. in :mod:`spherewarp.render._kernels`, write ``_stage_power`` and add its
+   branch to ``run_stages`` (see that module's docstring);
+3. here, add ``"power": (code, n_params, max_scale_or_None)`` to
+   :data:`STAGE_KINDS`.
+
+numba is imported lazily, on the first fast render; without numba (or with
+``SPHEREWARP_NO_JIT=1`` in the environment) :func:`available` is False and
+the renderer uses its NumPy path. The kernels are compiled once and cached
+on disk (``cache=True``), and run on this module's own threads (they release
+the GIL), so they are safe to call from several threads at once.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import platform
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..maps.base import Composite, SphereMap
+from . import antialias as _aa
+
+__all__ = [
+    "STAGE_KINDS",
+    "KernelSpec",
+    "available",
+    "kernel_spec",
+    "lorentz_from_sl2",
+    "render_spec",
+    "sample_samples",
+    "source_coords",
+]
+
+#: stage kinds the compiled renderer knows: name -> (kernel code, number of params)
+STAGE_KINDS: dict[str, tuple[int, int]] = {"mobius": (1, 8)}
+
+INTERP_CODES = {"nearest": 0, "bilinear": 1, "bicubic": 2}
+
+#: output tile (rows, columns) of the compiled kernels
+TILE = (64, 64)
+
+_STATE: dict[str, Any] = {}
+_UNALIGNED_OK = platform.machine().lower() in ("x86_64", "amd64", "aarch64", "arm64")
+
+
+def available() -> bool:
+    """True when the compiled kernels can be used (numba importable, not disabled).
+
+    Examples
+    --------
+    >>> isinstance(available(), bool)
+    True
+    """
+    return _kernels() is not None
+
+
+def _kernels() -> Any:
+    if os.environ.get("SPHEREWARP_NO_JIT", "").strip() not in ("", "0"):
+        return None
+    if "kernels" not in _STATE:
+        try:
+            from . import _kernels as k
+        except Exception:  # ImportError, or a numba that does not fit this NumPy
+            k = None
+        _STATE["kernels"] = k
+    return _STATE["kernels"]
+
+
+# -- kernel specs ----------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class KernelSpec:
+    """A map as compiled stages.
+
+    Attributes
+    ----------
+    codes : ndarray of int64, shape (n,)
+        Stage codes (see :mod:`spherewarp.render._kernels`).
+    params : ndarray of float64, shape (n, p)
+        One parameter row per stage.
+    max_scale : float
+        An upper bound of the map's magnification (``inf`` if unknown).
+    """
+
+    codes: NDArray[np.int64]
+    params: NDArray[np.float64]
+    max_scale: float
+
+
+def lorentz_from_sl2(m: NDArray[np.complex128]) -> NDArray[np.float64]:
+    """The 4x4 Lorentz matrix of the Möbius map ``m`` on ``(t, x, y, z)``.
+
+    A point ``(x, y, z)`` of the sphere is the null vector ``(1, x, y, z)``,
+    that is the Hermitian matrix ``P = psi psi^H`` of its unit pair ``psi``
+    (see :func:`spherewarp.coords.xyz_from_cp1`); the map acts as
+    ``P -> m P m^H``. The image point is ``(x', y', z') / t'`` and the map's
+    spherical magnification there is ``1 / t'``.
+
+    Examples
+    --------
+    >>> from spherewarp.maps import Mobius
+    >>> m = Mobius.zoom((30, 10), 2.0)
+    >>> L = lorentz_from_sl2(m.matrix)
+    >>> v = np.array([0.6, 0.0, 0.8])
+    >>> t, *xyz = L @ np.r_[1.0, v]
+    >>> bool(np.allclose(np.array(xyz) / t, m.apply_xyz(v)))
+    True
+    """
+    m = np.asarray(m, dtype=np.complex128)
+
+    def herm(t: float, x: float, y: float, z: float) -> NDArray[np.complex128]:
+        return np.array([[(t - z) / 2, -(x + 1j * y) / 2], [-(x - 1j * y) / 2, (t + z) / 2]])
+
+    out = np.empty((4, 4))
+    for k, e in enumerate(np.eye(4)):
+        p = m @ herm(*e) @ m.conj().T
+        out[:, k] = [
+            (p[0, 0] + p[1, 1]).real,
+            -2 * p[0, 1].real,
+            -2 * p[0, 1].imag,
+            (p[1, 1] - p[0, 0]).real,
+        ]
+    return out
+
+
+def _stages_of(m: SphereMap) -> list[tuple[str, NDArray[np.float64]]] | None:
+    if isinstance(m, Composite):
+        out: list[tuple[str, NDArray[np.float64]]] = []
+        for part in reversed(m.maps):  # the last map is applied first
+            st = _stages_of(part)
+            if st is None:
+                return None
+            out.extend(st)
+        return out
+    hook: Callable[[], Any] | None = getattr(m, "kernel_stages", None)
+    stages = hook() if hook is not None else None
+    if stages is None:
+        mob = m.as_mobius()
+        if mob is None:
+            return None
+        stages = (("mobius", np.asarray(mob.matrix, np.complex128).view(np.float64).ravel()),)
+    return [(str(kind).lower(), np.asarray(p, dtype=np.float64).ravel()) for kind, p in stages]
+
+
+def kernel_spec(m: SphereMap) -> KernelSpec | None:
+    """The map as compiled stages, or None if some part of it has none.
+
+    Examples
+    --------
+    >>> from spherewarp.maps import Mobius
+    >>> spec = kernel_spec(Mobius.rotation((0, 0), 30) @ Mobius.zoom((10, 20), 3))
+    >>> spec.codes.tolist(), round(spec.max_scale, 9)
+    ([1], 3.0)
+    """
+    stages = _stages_of(m)
+    if stages is None:
+        return None
+    fused: list[tuple[str, Any]] = []
+    for kind, p in stages:
+        if kind not in STAGE_KINDS or p.size != STAGE_KINDS[kind][1]:
+            return None
+        if kind == "mobius":
+            mat = p.view(np.complex128).reshape(2, 2)
+            if fused and fused[-1][0] == "mobius":
+                fused[-1] = ("mobius", mat @ fused[-1][1])  # later after earlier
+                continue
+            fused.append(("mobius", mat))
+        else:
+            fused.append((kind, p))
+    width = 16
+    for _, p in fused:
+        width = max(width, np.size(p))
+    codes = np.empty(len(fused), np.int64)
+    params = np.zeros((len(fused), width))
+    max_scale = 1.0
+    for s, (kind, p) in enumerate(fused):
+        codes[s] = STAGE_KINDS[kind][0]
+        if kind == "mobius":
+            mat = p / np.sqrt(np.linalg.det(p))
+            lor = lorentz_from_sl2(mat)
+            params[s, :16] = lor.ravel()
+            # magnification 1/t' >= ..., with min over the sphere of t' = L00 - |L0,1:|
+            tmin = lor[0, 0] - np.linalg.norm(lor[0, 1:])
+            max_scale *= 1.0 / tmin if tmin > 0 else math.inf
+        else:  # pragma: no cover - future kinds
+            params[s, : np.size(p)] = p
+            max_scale = math.inf
+    return KernelSpec(codes, params, float(max_scale))
+
+
+# -- threads and views -----------------------------------------------------------------------------
+def default_threads() -> int:
+    """Worker threads used when ``threads=None``: the CPUs this process may run on."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+_POOL: list[Any] = [None, 0, 0]  # executor, its size, the process it belongs to
+_POOL_LOCK = threading.Lock()
+
+
+def _pool(n: int) -> Any:
+    from concurrent.futures import ThreadPoolExecutor
+
+    with _POOL_LOCK:
+        if _POOL[2] != os.getpid():  # a forked child does not have its parent's threads
+            _POOL[:] = [None, 0, os.getpid()]
+        if _POOL[1] < n:
+            if _POOL[0] is not None:
+                _POOL[0].shutdown(wait=False)
+            _POOL[0] = ThreadPoolExecutor(max_workers=n, thread_name_prefix="spherewarp")
+            _POOL[1] = n
+        return _POOL[0]
+
+
+def _run(
+    kernel: Callable[..., Any], args: tuple[Any, ...], threads: int | None, items: int
+) -> None:
+    """Run ``kernel(*args, wk, nw)`` for ``nw`` workers on threads (the kernels drop the GIL)."""
+    nw = default_threads() if threads is None else int(threads)
+    nw = max(1, min(nw, items))
+    if nw == 1:
+        kernel(*args, 0, 1)
+        return
+    futures = [_pool(nw - 1).submit(kernel, *args, wk, nw) for wk in range(1, nw)]
+    kernel(*args, 0, nw)
+    for f in futures:
+        f.result()
+
+
+def _native(a: NDArray) -> NDArray:
+    """C-contiguous, native byte order (what the kernels are compiled for)."""
+    return np.ascontiguousarray(a, dtype=a.dtype.newbyteorder("="))
+
+
+def _readonly(a: NDArray) -> NDArray:
+    v = a.view()
+    v.flags.writeable = False
+    return v
+
+
+_SAMPLE_TYPES = (np.uint8, np.uint16, np.float32, np.float64)
+_DUMMY_IMAGES = tuple(_readonly(np.zeros((1, 1, 1), t)) for t in _SAMPLE_TYPES)
+_DUMMY_FLATS = tuple(np.zeros(1, t) for t in _SAMPLE_TYPES)
+
+
+def _image_bundle(src: NDArray) -> tuple[Any, ...]:
+    """``(u8, u16, f32, f64, code, h, w, c)``: the image in its own slot, dummies elsewhere.
+
+    One compiled kernel then serves every sample type (it picks the slot at
+    run time), instead of one compilation per dtype.
+    """
+    src = _readonly(_native(src))
+    code = _SAMPLE_TYPES.index(src.dtype.type)
+    slots = list(_DUMMY_IMAGES)
+    slots[code] = src
+    h, w, c = src.shape
+    return (*slots, code, h, w, c)
+
+
+def _output_bundle(out: NDArray) -> tuple[Any, ...]:
+    """``(u8, u16, f32, f64, code)`` with the flat output in its slot."""
+    code = _SAMPLE_TYPES.index(out.dtype.type)
+    slots = list(_DUMMY_FLATS)
+    slots[code] = out.reshape(-1)
+    return (*slots, code)
+
+
+_DUMMY_BYTES = np.zeros(32, np.uint8)
+_DUMMY64 = _readonly(np.ndarray((2,), np.uint64, buffer=_DUMMY_BYTES, strides=(1,)))
+_DUMMY32 = np.ndarray((2, 2), np.uint32, buffer=np.zeros(32, np.uint8), strides=(1, 0))
+
+
+def _u8_views(src: NDArray[np.uint8], out: NDArray[np.uint8]) -> tuple[Any, Any, int, Any]:
+    """Unaligned views for the two-taps-a-load path (see ``_kernels``)."""
+    c = src.shape[2]
+    raw = src.reshape(-1)
+    n = src.shape[0] * src.shape[1]
+    big = (n * c - 8) // c + 1
+    p64 = np.ndarray((big,), np.uint64, buffer=raw, strides=(c,))
+    rest = n - big
+    ntail = max(2, rest)
+    tb = np.zeros(ntail * c + 8, np.uint8)
+    tb[: rest * c] = raw[big * c :]
+    tail = np.ndarray((ntail,), np.uint64, buffer=tb, strides=(c,))
+    no = out.shape[0] * out.shape[1]
+    o32 = np.ndarray(((no * c - 4) // c + 1, 2), np.uint32, buffer=out.reshape(-1), strides=(c, 0))
+    return _readonly(p64), _readonly(tail), big, o32
+
+
+def _fast_u8_ok(src: NDArray, out: NDArray, interp: str) -> bool:
+    return (
+        _UNALIGNED_OK
+        and src.dtype == np.uint8
+        and interp == "bilinear"
+        and out.shape[2] == src.shape[2]
+        and src.size >= 64
+        and out.shape[0] * out.shape[1] >= 2
+    )
+
+
+def _value_params(dtype: np.dtype) -> tuple[bool, float, float]:
+    if dtype.kind == "u":
+        mx = float(np.iinfo(dtype).max)
+        return True, mx, mx
+    return False, math.inf, 1.0
+
+
+def _offset_tables(out_shape: tuple[int, int], cap: int) -> NDArray[np.float64]:
+    """cos/sin of the column and row offsets of subsample m of n, n <= cap."""
+    h, w = out_shape
+    tabs = np.zeros((4, cap + 1, cap))
+    for n in range(1, cap + 1):
+        f = (np.arange(n) + 0.5) / n - 0.5
+        ex = 2 * np.pi * f / w
+        dy = np.pi * f / h
+        tabs[0, n, :n] = np.cos(ex)
+        tabs[1, n, :n] = np.sin(ex)
+        tabs[2, n, :n] = np.cos(dy)
+        tabs[3, n, :n] = np.sin(dy)
+    return tabs
+
+
+def _column_tables(w_out: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    lon = 2 * np.pi * (np.arange(w_out) + 0.5) / w_out - np.pi
+    return np.cos(lon), np.sin(lon)
+
+
+# -- entry points ----------------------------------------------------------------------------------
+def render_spec(
+    src: NDArray,
+    spec: KernelSpec,
+    out: NDArray,
+    *,
+    interp: str,
+    aa: tuple[str, int],
+    background: NDArray[np.float32],
+    threads: int | None = None,
+) -> None:
+    """Fill ``out`` (``(H, W, C or C+1)``, the input's dtype) with the pull-back of ``src``.
+
+    ``aa`` is ``(mode, n)`` from :func:`~spherewarp.render.antialias.parse_antialias`.
+    With one channel more in ``out`` than in ``src``, the last is alpha.
+    """
+    k = _kernels()
+    src = _native(src)
+    h_in, w_in, _ = src.shape
+    h_out, w_out, _ = out.shape
+    kx, ky = w_in / (2 * np.pi), h_in / np.pi
+    aa_kx, aa_ky = _aa.footprint_factors((h_in, w_in), (h_out, w_out))
+    aa_kx *= _aa.AUTO_DENSITY
+    aa_ky *= _aa.AUTO_DENSITY
+    tol = float(_aa.AUTO_TOLERANCE)
+    mode, n = aa
+    cap = _aa.AUTO_MAX if mode == "auto" else max(1, n)
+    do_aa = mode == "uniform" or (mode == "auto" and spec.max_scale * max(aa_kx, aa_ky) > 1.0 + tol)
+    uniform = n if mode == "uniform" else 0
+    tabs = _offset_tables((h_out, w_out), cap)
+    ccos, csin = _column_tables(w_out)
+    is_int, maxval, full = _value_params(src.dtype)
+    fast = _fast_u8_ok(src, out, interp)
+    if fast:
+        p64, tail, big, o32 = _u8_views(src, out)
+    else:
+        p64, tail, big, o32 = _DUMMY64, _DUMMY64, 0, _DUMMY32
+    th, tw = TILE
+    args = (
+        _image_bundle(src), p64, tail, big, o32, _output_bundle(out), h_out, w_out, out.shape[2],
+        fast, spec.codes, spec.params, ccos, csin, tabs, kx, ky,
+        do_aa, aa_kx, aa_ky, tol, cap, uniform,
+        INTERP_CODES[interp], np.asarray(background, np.float32), is_int, maxval, full,
+        th, tw,
+    )  # fmt: skip
+    _run(k.render_spec, args, threads, -(-h_out // th))
+
+
+def source_coords(
+    spec: KernelSpec,
+    in_shape: tuple[int, int],
+    out_shape: tuple[int, int],
+    rows: tuple[int, int] | None = None,
+    threads: int | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
+    """Source pixel coordinates of output pixel centres as the compiled kernel computes them.
+
+    Returns ``(x, y, scale, valid)`` for output rows ``rows`` (default all):
+    ``x, y`` in pixel coordinates of the input (centres at half-integers, as
+    :func:`spherewarp.coords.pixel_from_lonlat`), the magnification and the
+    validity.
+
+    Examples
+    --------
+    >>> from spherewarp.maps import Mobius
+    >>> x, y, s, ok = source_coords(kernel_spec(Mobius.identity()), (4, 8), (4, 8))
+    >>> x[0].round(12).tolist(), y[:, 0].round(12).tolist()
+    ([0.5, 1.5, 2.5, 3.5, 4.5, 5.5, 6.5, 7.5], [0.5, 1.5, 2.5, 3.5])
+    """
+    k = _kernels()
+    h_in, w_in = in_shape
+    h_out, w_out = out_shape
+    r0, r1 = rows if rows is not None else (0, h_out)
+    u = np.empty((r1 - r0, w_out))
+    v = np.empty_like(u)
+    scale = np.empty_like(u)
+    valid = np.empty(u.shape, np.uint8)
+    ccos, csin = _column_tables(w_out)
+    args = (
+        spec.codes, spec.params, ccos, csin, r0, h_out, w_in / (2 * np.pi), h_in / np.pi,
+        u, v, scale, valid,
+    )  # fmt: skip
+    _run(k.spec_coords, args, threads, r1 - r0)
+    return u + 0.5, v + 0.5, scale, valid.astype(bool)
+
+
+def subsample_coords(
+    spec: KernelSpec,
+    in_shape: tuple[int, int],
+    out_shape: tuple[int, int],
+    py: NDArray[np.floating],
+    px: NDArray[np.floating],
+    oy: NDArray[np.floating],
+    ox: NDArray[np.floating],
+    threads: int | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
+    """Tap-space source coordinates of the output points ``(px + ox, py + oy)``."""
+    k = _kernels()
+    h_in, w_in = in_shape
+    h_out, w_out = out_shape
+    n = np.size(py)
+    u = np.empty(n)
+    v = np.empty(n)
+    valid = np.empty(n, np.uint8)
+    f64 = np.float64
+    args = (
+        spec.codes, spec.params, h_out, w_out, w_in / (2 * np.pi), h_in / np.pi,
+        np.ascontiguousarray(py, f64), np.ascontiguousarray(px, f64),
+        np.ascontiguousarray(oy, f64), np.ascontiguousarray(ox, f64), u, v, valid,
+    )  # fmt: skip
+    _run(k.spec_subsample_coords, args, threads, -(-n // 1024))
+    return u, v, valid.astype(bool)
+
+
+def sample_samples(
+    src: NDArray,
+    u: NDArray[np.float64],
+    v: NDArray[np.float64],
+    valid: NDArray[np.bool_] | None,
+    start: NDArray[np.int64],
+    out_flat: NDArray,
+    out_channels: int,
+    p0: int,
+    *,
+    interp: str,
+    background: NDArray[np.float32],
+    threads: int | None = None,
+) -> None:
+    """Compiled sampling of given coordinates: pixel ``p0 + j`` of ``out_flat``
+    gets the mean of samples ``start[j]:start[j + 1]`` (tap space ``u, v``)."""
+    k = _kernels()
+    is_int, maxval, full = _value_params(src.dtype)
+    if valid is None:
+        valid = np.ones(np.shape(u), np.uint8)
+    args = (
+        _image_bundle(src), np.ascontiguousarray(u, np.float64),
+        np.ascontiguousarray(v, np.float64), np.ascontiguousarray(valid, np.uint8),
+        np.ascontiguousarray(start, np.int64), INTERP_CODES[interp],
+        np.asarray(background, np.float32), _output_bundle(out_flat), int(out_channels), int(p0),
+        is_int, maxval, full,
+    )  # fmt: skip
+    _run(k.sample_csr, args, threads, -(-(len(start) - 1) // 256))

@@ -1,0 +1,149 @@
+"""Cached maps: build once, apply per frame; the same images as warp()."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from spherewarp import coords
+from spherewarp.errors import InvalidTypeError, InvalidValueError
+from spherewarp.maps import Mobius, PullBack, SphereMap
+from spherewarp.render import fast, warp
+from spherewarp.render.cache import WarpMap
+
+TOL = {np.uint8: 1, np.uint16: 1, np.float32: 2e-6}
+
+
+def _image(shape, dtype, seed=0):
+    r = np.random.default_rng(seed)
+    if np.dtype(dtype).kind == "u":
+        return r.integers(0, np.iinfo(dtype).max, shape, dtype=dtype, endpoint=True)
+    return r.random(shape).astype(dtype)
+
+
+def _smooth(h, w, dtype):
+    """0.5 + 0.5 xyz: smooth, so that 1/256-pixel weights change values very little."""
+    y, x = np.mgrid[0:h, 0:w] + 0.5
+    xyz = coords.xyz_from_lonlat(coords.lonlat_from_pixel(np.stack([x, y], -1), w, h))
+    img = 0.5 + 0.5 * xyz
+    if np.dtype(dtype).kind == "u":
+        return np.rint(img * np.iinfo(dtype).max).astype(dtype)
+    return img.astype(dtype)
+
+
+class FrontHalf(SphereMap):
+    def pull_cp1(self, zw):
+        return np.asarray(zw, dtype=np.complex128)
+
+    def pull(self, zw):
+        return PullBack(self.pull_cp1(zw), valid=coords.xyz_from_cp1(zw)[..., 0] >= 0)
+
+
+class TwoSheets(SphereMap):
+    n_sheets = 2
+
+    def pull_cp1(self, zw):
+        return np.asarray(zw, dtype=np.complex128)
+
+
+MAPS = [
+    Mobius.from_yaw_pitch_roll(30, 70, 10),
+    Mobius.zoom((20, -30), 6).inverse(),
+    Mobius.rotation((0, 0), 90) @ Mobius.zoom((0, 0), 0.5),
+]
+
+
+@pytest.mark.parametrize("m", MAPS, ids=["rotation", "zoom", "composite"])
+@pytest.mark.parametrize("antialias", ["none", "auto", 2])
+def test_apply_matches_warp_uint8(m, antialias):
+    img = _image((32, 64, 3), np.uint8)
+    for out_shape in [(32, 64), (20, 50)]:
+        wm = WarpMap.build(m, (32, 64), out_shape, antialias=antialias)
+        a = wm.apply(img)
+        b = warp(img, m, output_shape=out_shape, antialias=antialias)
+        assert a.shape == b.shape and a.dtype == b.dtype
+        assert np.abs(a.astype(int) - b).max() <= 1
+
+
+@pytest.mark.parametrize("dtype", [np.uint16, np.float32])
+@pytest.mark.parametrize("interp", ["bilinear", "nearest", "bicubic"])
+def test_apply_matches_warp_other_dtypes(dtype, interp):
+    img = _smooth(32, 64, dtype)
+    m = MAPS[1]
+    wm = WarpMap.build(m, (32, 64), interp=interp)
+    a = wm.apply(img).astype(float)
+    b = warp(img, m, interp=interp).astype(float)
+    full = 1.0 if dtype == np.float32 else 65535.0
+    # bilinear weights are stored in 1/256 pixel; other samples as float32 coordinates
+    tol = 2e-3 * full if interp == "bilinear" else TOL[dtype] + 1e-4 * full
+    np.testing.assert_allclose(a, b, rtol=0, atol=tol)
+
+
+@pytest.mark.parametrize("channels", [1, 2, 3, 4])
+def test_exact_turns_and_every_pixel(channels):
+    h, w = 16, 32
+    img = _image((h, w, channels), np.uint8, seed=channels)
+    for k in (0, 3, -5):
+        wm = WarpMap.build(Mobius.rotation((0, 90), k * 360 / w), (h, w))
+        np.testing.assert_array_equal(wm.apply(img), np.roll(img, -k, axis=1))
+        f = img.astype(np.float32)
+        np.testing.assert_array_equal(wm.apply(f), np.roll(f, -k, axis=1))
+
+
+def test_special_pixels_holes_background_alpha():
+    img = _image((32, 64, 3), np.uint8)
+    wm = WarpMap.build(FrontHalf(), (32, 64))
+    assert 0 < wm.n_special < 32 * 64
+    for kw in ({}, {"background": (10, 20, 30)}, {"alpha": True}):
+        np.testing.assert_array_equal(wm.apply(img, **kw), warp(img, FrontHalf(), **kw))
+    zoom = WarpMap.build(MAPS[1], (32, 64))  # anti-aliased pixels where the zoom shrinks
+    assert zoom.n_special > 0
+    assert "WarpMap(" in repr(zoom) and zoom.nbytes > 0
+
+
+def test_out_buffer_is_reused_and_checked():
+    img = _image((16, 32, 3), np.uint8)
+    wm = WarpMap.build(MAPS[0], (16, 32))
+    buf = np.empty((16, 32, 3), np.uint8)
+    assert wm.apply(img, out=buf) is buf
+    np.testing.assert_array_equal(buf, warp(img, MAPS[0]))
+    for bad in (np.empty((16, 32, 4), np.uint8), np.empty((16, 32, 3), np.float32)):
+        with pytest.raises(InvalidValueError, match="out"):
+            wm.apply(img, out=bad)
+
+
+def test_bad_inputs():
+    with pytest.raises(InvalidTypeError, match="SphereMap"):
+        WarpMap.build(lambda z: z, (16, 32))
+    with pytest.raises(InvalidValueError, match="one input image"):
+        WarpMap.build(TwoSheets(), (16, 32))
+    with pytest.raises(InvalidValueError, match="2 x height"):
+        WarpMap.build(MAPS[0], (16, 30))
+    assert WarpMap.build(MAPS[0], (16, 30), force=True).in_shape == (16, 30)
+    with pytest.raises(InvalidValueError, match="in_shape"):
+        WarpMap.build(MAPS[0], (0, 32))
+    with pytest.raises(InvalidValueError, match="interpolation"):
+        WarpMap.build(MAPS[0], (16, 32), interp="lanczos")
+    wm = WarpMap.build(MAPS[0], (16, 32))
+    with pytest.raises(InvalidValueError, match="32x16"):
+        wm.apply(np.zeros((8, 16, 3), np.uint8))
+    with pytest.raises(InvalidTypeError):
+        wm.apply(np.zeros((16, 32, 3), np.int32))
+
+
+def test_numpy_fallback_gives_the_same_maps_and_images(monkeypatch):
+    if not fast.available():
+        pytest.skip("numba is not installed")
+    img = _image((32, 64, 3), np.uint8)
+    m = MAPS[1]
+    jit = WarpMap.build(m, (32, 64))
+    a = jit.apply(img)
+    monkeypatch.setenv("SPHEREWARP_NO_JIT", "1")
+    plain = WarpMap.build(m, (32, 64))
+    np.testing.assert_array_equal(plain._oa, jit._oa)
+    np.testing.assert_array_equal(plain._wt, jit._wt)
+    assert plain.n_special == jit.n_special
+    assert np.abs(plain.apply(img).astype(int) - a).max() <= 1
+    assert np.abs(jit.apply(img).astype(int) - a).max() <= 1  # applying without numba too
+    f = _smooth(32, 64, np.float32)
+    np.testing.assert_allclose(plain.apply(f, alpha=True)[..., :3], warp(f, m), atol=3e-3)

@@ -1,0 +1,305 @@
+"""The compiled fast path against the float64 NumPy reference path."""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from spherewarp import coords
+from spherewarp.errors import InvalidValueError
+from spherewarp.maps import Mobius, PullBack, SphereMap
+from spherewarp.maps.base import Composite
+from spherewarp.render import fast, warp
+from spherewarp.render.cache import _taps_numpy
+
+needs_jit = pytest.mark.skipif(not fast.available(), reason="numba is not installed")
+
+#: the issue's precision target: source coordinates within 1/20 pixel, everywhere
+TARGET_PX = 1 / 20
+#: what the fast path actually reaches on these maps (float64 geometry)
+FLOAT64_PX = 1e-6
+
+MAPS = {
+    "identity": Mobius.identity(),
+    "yaw_pitch_roll": Mobius.from_yaw_pitch_roll(30, 20, 10),
+    "poles_to_equator": Mobius.rotation((0, 0), 90),
+    "seam_to_front": Mobius.rotation((0, 90), 180),
+    "zoom_at_pole": Mobius.zoom((0, 90), 8),
+    "zoom8_pulled": Mobius.zoom((30, -20), 8).inverse(),
+    "spiral": Mobius.zoom((-120, -35), 1.5 * np.exp(0.8j)),
+    "parabolic": Mobius.translation(complex("inf"), 0.5),
+    "composite": Mobius.rotation((10, 10), 33) @ Mobius.zoom((40, 20), 3),
+}
+SHAPES = [((64, 128), (64, 128)), ((50, 100), (37, 75)), ((256, 512), (128, 256))]
+
+
+def _pixel_grid(h: int, w: int) -> np.ndarray:
+    y, x = np.mgrid[0:h, 0:w] + 0.5
+    return np.stack([x, y], axis=-1)
+
+
+def reference_coords(m: SphereMap, in_shape, out_shape):
+    """Source pixel coordinates, source latitude and magnification, float64 NumPy."""
+    (h_in, w_in), (h_out, w_out) = in_shape, out_shape
+    zw = coords.cp1_from_lonlat(coords.lonlat_from_pixel(_pixel_grid(h_out, w_out), w_out, h_out))
+    ll = coords.lonlat_from_cp1(m.pull_cp1(zw))
+    px = coords.pixel_from_lonlat(ll, w_in, h_in)
+    return px[..., 0], px[..., 1], ll[..., 1], m.local_scale(zw)
+
+
+def coord_errors(m: SphereMap, in_shape, out_shape) -> tuple[float, float, float]:
+    """Max |dx| (wrapped, except within 1e-9 rad of a pole), max |dy|, max relative scale error."""
+    spec = fast.kernel_spec(m)
+    x, y, s, ok = fast.source_coords(spec, in_shape, out_shape)
+    rx, ry, rlat, rs = reference_coords(m, in_shape, out_shape)
+    w_in = in_shape[1]
+    dx = np.abs((x - rx + w_in / 2) % w_in - w_in / 2)
+    at_pole = np.abs(rlat) > np.pi / 2 - 1e-9  # longitude is undefined there
+    assert ok.all()
+    return float(dx[~at_pole].max()), float(np.abs(y - ry).max()), float(np.abs(s / rs - 1).max())
+
+
+# -- target 7: precision ---------------------------------------------------------------------------
+@needs_jit
+@pytest.mark.parametrize("name", MAPS)
+@pytest.mark.parametrize(("in_shape", "out_shape"), SHAPES)
+def test_source_coordinates_match_reference(name, in_shape, out_shape):
+    """Everywhere, seam columns and pole rows included."""
+    ex, ey, es = coord_errors(MAPS[name], in_shape, out_shape)
+    assert ex <= FLOAT64_PX and ey <= FLOAT64_PX, (ex, ey)
+    assert es <= 1e-9, es
+
+
+@needs_jit
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.floats(-5, 5), min_size=8, max_size=8))
+def test_source_coordinates_random_matrices(entries):
+    a = np.array(entries[:4]).reshape(2, 2) + 1j * np.array(entries[4:]).reshape(2, 2)
+    try:
+        m = Mobius(a)
+    except InvalidValueError:
+        return
+    ex, ey, _ = coord_errors(m, (32, 64), (24, 48))
+    assert ex <= TARGET_PX and ey <= TARGET_PX, (ex, ey)
+
+
+@needs_jit
+def test_fixed_point_taps_are_within_target():
+    """The uint8 path rounds source coordinates to 1/256 pixel; decode its taps and compare."""
+    h, w = 64, 128
+    m = MAPS["yaw_pitch_roll"] @ MAPS["zoom_at_pole"]
+    x, y, *_ = reference_coords(m, (h, w), (h, w))
+    u, v = x - 0.5, y - 0.5
+    oa, ob, wt = _taps_numpy(u, v, w, h, h * w)
+    ia = (oa & 0x7FFFFFFF).astype(np.int64)
+    ya, xa = ia // w, ia % w
+    tx, ty = (wt & 255) / 256, (wt >> 8) / 256
+    inner = (v >= 0) & (v < h - 1)  # rows that are not folded over a pole
+    dx = (xa + tx - u + w / 2) % w - w / 2
+    dy = ya + ty - v
+    assert np.abs(dx[inner]).max() <= 1 / 512 + 1e-9
+    assert np.abs(dy[inner]).max() <= 1 / 512 + 1e-9
+    # folded rows: the top tap row is row 0 turned half a turn, the bottom one row H - 1
+    top = v < 0
+    assert np.all(ya[top] == 0) and np.all((xa[top] - np.floor(u[top] + 1 / 512) - w // 2) % w == 0)
+
+
+@needs_jit
+def test_compiled_taps_equal_numpy_taps():
+    rng = np.random.default_rng(1)
+    h, w = 16, 32
+    u = np.concatenate([rng.uniform(-0.5, w - 0.5, 500), [-0.5, w - 0.5, 0.0, w - 1.0, 3.998]])
+    v = np.concatenate([rng.uniform(-0.5, h - 0.5, 500), [-0.5, h - 0.5, 0.0, h - 1.0, 7.002]])
+    u, v = u[None, :], v[None, :]
+    n = u.size
+    got = [np.empty(n, np.int32), np.empty(n, np.int32), np.empty(n, np.uint16)]
+    fast._run(fast._kernels().build_taps, (u, v, w, h, h * w - 8, *got), 1, 1)
+    want = _taps_numpy(u[0], v[0], w, h, h * w - 8)
+    for a, b in zip(got, want, strict=True):
+        np.testing.assert_array_equal(a, b)
+
+
+# -- images: fast against reference ----------------------------------------------------------------
+def _image(shape, dtype, seed=0):
+    r = np.random.default_rng(seed)
+    if np.dtype(dtype).kind == "u":
+        return r.integers(0, np.iinfo(dtype).max, shape, dtype=dtype, endpoint=True)
+    return r.random(shape).astype(dtype)
+
+
+TOL = {np.uint8: 1, np.uint16: 1, np.float32: 2e-6, np.float64: 2e-6}
+
+
+@needs_jit
+@pytest.mark.parametrize("dtype", [np.uint8, np.uint16, np.float32])
+@pytest.mark.parametrize("interp", ["bilinear", "nearest", "bicubic"])
+@pytest.mark.parametrize("antialias", ["none", "auto", 2])
+def test_render_matches_reference(dtype, interp, antialias):
+    img = _image((24, 48, 3), dtype)
+    m = MAPS["poles_to_equator"] @ Mobius.zoom((20, 30), 2.5)
+    for shape in [(24, 48), (17, 40), (1, 1)]:
+        kw = {"interp": interp, "antialias": antialias, "output_shape": shape}
+        a = warp(img, m, method="fast", **kw)
+        b = warp(img, m, method="reference", **kw)
+        assert a.dtype == b.dtype and a.shape == b.shape
+        np.testing.assert_allclose(a.astype(float), b.astype(float), rtol=0, atol=TOL[dtype])
+
+
+@needs_jit
+@pytest.mark.parametrize("channels", [1, 2, 3, 4])
+def test_uint8_fast_path_every_channel_count(channels):
+    """Two taps a load and overlapping stores: exact on whole-pixel turns, all channel counts."""
+    h, w = 32, 64
+    img = _image((h, w, channels), np.uint8, seed=channels)
+    for k in (0, 1, -3, w // 2):
+        out = warp(img, Mobius.rotation((0, 90), k * 360 / w), method="fast")
+        np.testing.assert_array_equal(out, np.roll(img, -k, axis=1))
+    m = Mobius.from_yaw_pitch_roll(10, 80, 0)  # the poles in view
+    for shape in [(h, w), (31, 50), (5, 3)]:
+        a = warp(img, m, output_shape=shape, antialias="none", method="fast")
+        b = warp(img, m, output_shape=shape, antialias="none", method="reference")
+        assert np.abs(a.astype(int) - b).max() <= 1
+
+
+@needs_jit
+def test_uint8_last_pixel_and_alpha_background():
+    img = _image((16, 32, 3), np.uint8)
+    # the identity samples every input pixel, the last one (bottom right) too
+    np.testing.assert_array_equal(warp(img, Mobius.identity()), img)
+    out = warp(img, Mobius.identity(), alpha=True)
+    assert out.shape == (16, 32, 4) and np.all(out[..., 3] == 255)
+    np.testing.assert_array_equal(out[..., :3], img)
+
+
+@needs_jit
+def test_non_native_byte_order():
+    img = _image((16, 32, 3), np.uint16).astype(">u2")
+    m = Mobius.zoom((0, 0), 3)
+    out = warp(img, m)
+    assert out.dtype == np.uint16
+    np.testing.assert_array_equal(out, warp(img.astype(np.uint16), m))
+
+
+class FrontHalf(SphereMap):
+    """Identity with a hole on the back half (no compiled stages: the generic path)."""
+
+    def pull_cp1(self, zw):
+        return np.asarray(zw, dtype=np.complex128)
+
+    def pull(self, zw):
+        return PullBack(self.pull_cp1(zw), valid=coords.xyz_from_cp1(zw)[..., 0] >= 0)
+
+
+class Squared(SphereMap):
+    """z -> z**2 (no compiled stages; has a derivative)."""
+
+    def pull_cp1(self, zw):
+        zw = np.asarray(zw, dtype=np.complex128)
+        return coords.normalize_cp1(zw**2)
+
+    def local_scale(self, zw):
+        z = coords.plane_from_cp1(zw)
+        with np.errstate(all="ignore"):
+            s = 2 * np.abs(z) * (1 + np.abs(z) ** 2) / (1 + np.abs(z) ** 4)
+        return np.where(np.isfinite(s), s, 0.0)
+
+
+@needs_jit
+@pytest.mark.parametrize("dtype", [np.uint8, np.float32])
+@pytest.mark.parametrize("antialias", ["none", "auto", 3])
+def test_generic_maps_use_compiled_sampling(dtype, antialias):
+    img = _image((32, 64, 3), dtype, seed=4)
+    assert fast.kernel_spec(Squared()) is None
+    for m in (Squared(), FrontHalf()):
+        for kw in ({}, {"alpha": True, "background": (0.2, 0.4, 0.6)}):
+            a = warp(img, m, antialias=antialias, method="fast", **kw)
+            b = warp(img, m, antialias=antialias, method="reference", **kw)
+            np.testing.assert_allclose(a.astype(float), b.astype(float), rtol=0, atol=TOL[dtype])
+
+
+@needs_jit
+def test_threads_give_identical_results():
+    img = _image((64, 128, 3), np.uint8, seed=5)
+    m = Mobius.zoom((10, 10), 6)
+    ref = warp(img, m, threads=1)
+    for t in (2, 3, 8):
+        np.testing.assert_array_equal(warp(img, m, threads=t), ref)
+    results = [None] * 4
+
+    def work(i):
+        results[i] = warp(img, m, threads=2)
+
+    threads = [threading.Thread(target=work, args=(i,)) for i in range(4)]
+    for th in threads:
+        th.start()
+    for th in threads:
+        th.join()
+    for r in results:
+        np.testing.assert_array_equal(r, ref)
+
+
+@needs_jit
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.floats(-5, 5), min_size=8, max_size=8), st.sampled_from(["none", "auto"]))
+def test_no_nan_and_in_range(entries, antialias):
+    a = np.array(entries[:4]).reshape(2, 2) + 1j * np.array(entries[4:]).reshape(2, 2)
+    try:
+        m = Mobius(a)
+    except InvalidValueError:
+        return
+    img = _image((8, 16, 3), np.float32)
+    out = warp(img, m, antialias=antialias, output_shape=(9, 14))
+    assert np.all(np.isfinite(out))
+    assert out.min() >= img.min() - 1e-6 and out.max() <= img.max() + 1e-6
+
+
+# -- specs ---------------------------------------------------------------------------------------
+def test_kernel_spec_fuses_mobius_and_rejects_others():
+    a, b = Mobius.rotation((10, 20), 30), Mobius.zoom((40, -10), 3)
+    spec = fast.kernel_spec(Composite((a, b, Mobius.identity())))
+    assert spec is not None and spec.codes.tolist() == [1]
+    np.testing.assert_allclose(
+        spec.params[0, :16], fast.kernel_spec(a @ b).params[0, :16], rtol=0, atol=1e-12
+    )
+    assert spec.max_scale == pytest.approx(3.0)
+    assert fast.kernel_spec(Mobius.rotation((0, 0), 40)).max_scale == pytest.approx(1.0)
+    assert fast.kernel_spec(Composite((a, Squared()))) is None
+
+    class Unknown(Mobius):
+        def kernel_stages(self):
+            return (("no-such-kind", np.zeros(3)),)
+
+    assert fast.kernel_spec(Unknown(np.eye(2))) is None
+    assert Mobius(np.eye(2)).kernel_stages()[0][0] == "mobius"
+    assert SphereMap.kernel_stages(Squared()) is None
+
+
+def test_lorentz_matrix_moves_points_like_the_map():
+    m = Mobius([[1 + 0.5j, 0.3], [-0.2j, 0.8]])
+    lor = fast.lorentz_from_sl2(m.matrix / np.sqrt(np.linalg.det(m.matrix)))
+    xyz = coords.xyz_from_lonlat(np.radians([[10.0, 20.0], [-170.0, -89.0], [0.0, 90.0]]))
+    t = lor[0, 0] + xyz @ lor[0, 1:]
+    img = (lor[1:, 0] + xyz @ lor[1:, 1:].T) / t[:, None]
+    np.testing.assert_allclose(img, m.apply_xyz(xyz), atol=1e-12)
+    np.testing.assert_allclose(1 / t, m.local_scale(coords.cp1_from_xyz(xyz)), rtol=1e-12)
+
+
+# -- without numba ---------------------------------------------------------------------------------
+def test_without_numba_the_numpy_path_renders(monkeypatch):
+    img = _image((16, 32, 3), np.uint8)
+    m = Mobius.zoom((0, 0), 3)
+    with_jit = warp(img, m)
+    monkeypatch.setenv("SPHEREWARP_NO_JIT", "1")
+    assert not fast.available()
+    without = warp(img, m)
+    assert np.abs(with_jit.astype(int) - without).max() <= 1
+    with pytest.raises(InvalidValueError, match="numba"):
+        warp(img, m, method="fast")
+    with pytest.raises(InvalidValueError, match="fast, reference"):
+        warp(img, m, method="quick")
+    with pytest.raises(InvalidValueError, match="threads"):
+        warp(img, m, threads=0)
