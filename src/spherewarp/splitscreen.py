@@ -603,6 +603,8 @@ def splitscreen(
     interp: str = "bilinear",
     supersample: int = 1,
     force: bool = False,
+    antialias: str | int = "auto",
+    threads: int | None = None,
 ) -> NDArray:
     """Combine panoramas on the sheets of a branched cover, with feathered seams.
 
@@ -632,7 +634,7 @@ def splitscreen(
         Pull the result back by this map too (applied first), e.g.
         ``Mobius.rotation_to((0, 0), (0, 90))`` to put the zenith branch
         point at the centre.
-    output_shape, interp, supersample, force
+    output_shape, interp, supersample, force, antialias, threads
         As for :func:`~spherewarp.render.warp` (``output_shape`` defaults to
         the common input size). Supersample the exp cover: its sheets shrink
         to points at the back.
@@ -674,6 +676,8 @@ def splitscreen(
         "output_shape": output_shape if output_shape is not None else imgs[0].shape[:2],
         "interp": interp,
         "supersample": supersample,
+        "antialias": antialias,
+        "threads": threads,
         "force": True,
     }
     if m == 1 or feather == 0:

@@ -119,6 +119,26 @@ class SizeType(click.ParamType):
         return w, h
 
 
+class AntialiasType(click.ParamType):
+    """``auto``, ``none`` or an integer N (uniform NxN supersampling)."""
+
+    name = "auto|none|N"
+
+    def convert(self, value: Any, param: Any, ctx: Any) -> str | int:
+        if isinstance(value, int) and not isinstance(value, bool):
+            return value
+        text = str(value).strip().lower()
+        if text in ("auto", "none"):
+            return text
+        try:
+            n = int(text)
+        except ValueError:
+            n = 0
+        if not 1 <= n <= 16:
+            self.fail(f"expected auto, none or an integer 1..16, got {value!r}", param, ctx)
+        return n
+
+
 class RealType(click.ParamType):
     """A finite real number, optionally bounded: ``RealType("a zoom factor", "2", gt=0)``.
 
@@ -184,12 +204,16 @@ class RenderOptions:
     interp: str
     supersample: int
     quality: int
+    antialias: str | int = "auto"
+    threads: int | None = None
 
     def warp_kwargs(self, pixels: Any) -> dict[str, Any]:
         """Keyword arguments for :func:`spherewarp.warp`."""
         kwargs: dict[str, Any] = {
             "interp": self.interp,
             "supersample": self.supersample,
+            "antialias": self.antialias,
+            "threads": self.threads,
             "force": self.force,
         }
         if self.size is not None:
@@ -206,6 +230,7 @@ def input_argument(func: Callable) -> Callable:
 
 def render_options(func: Callable) -> Callable:
     """``-o``, ``--overwrite``, ``--force``, ``--size``, ``--interp``, ``--supersample``,
+    ``--antialias``, ``--threads``,
     ``--quality``; the command receives them as one ``render`` argument."""
     options = [
         click.option(
@@ -232,7 +257,20 @@ def render_options(func: Callable) -> Callable:
             type=click.IntRange(1, 16),
             default=1,
             show_default=True,
-            help="Average NxN samples per output pixel (anti-aliasing).",
+            help="Average NxN samples in every output pixel (uniform; overrides --antialias).",
+        ),
+        click.option(
+            "--antialias",
+            type=AntialiasType(),
+            default="auto",
+            show_default=True,
+            help="auto: supersample only where the map shrinks the input (by its derivative); "
+            "none; or N for uniform NxN.",
+        ),
+        click.option(
+            "--threads",
+            type=click.IntRange(1, 1024),
+            help="Threads for rendering (default: all cores).",
         ),
         click.option(
             "--quality",
@@ -252,6 +290,8 @@ def render_options(func: Callable) -> Callable:
             interp=kwargs.pop("interp").lower(),
             supersample=kwargs.pop("supersample"),
             quality=kwargs.pop("quality"),
+            antialias=kwargs.pop("antialias"),
+            threads=kwargs.pop("threads"),
         )
         return func(render=render, **kwargs)
 
