@@ -241,6 +241,41 @@ def bench_rotation(width: int, threads_list: list[int], repeat: int, numpy_ref: 
             lambda: warp(img, m, antialias="none", threads=t), repeat))  # fmt: skip
 
 
+def effect_maps() -> dict[str, Any]:
+    """The non-Möbius effects of the issue's target 2 (compiled stages on the fly)."""
+    from spherewarp.maps import Droste, ExpMap, Lattes, Power
+
+    rho = np.full(64, np.log(np.tan(np.radians(20.0) / 2)))  # a round frame, radius 20 deg
+    return {
+        "Power(2)": (Power(2), 3.0),
+        "ExpMap(4)": (ExpMap(4.0), 3.0),
+        "Lattes 2+1j": (Lattes((2, 1)), 4.0),
+        "Droste x4": (Droste((0.0, 0.0), rho, 4.0), 4.0),
+    }
+
+
+def bench_effects(width: int, threads_list: list[int], repeat: int) -> None:
+    """Branched, exp, Lattès and Droste maps on the fly, beside cv2.remap (fixed point)."""
+    h, w = width // 2, width
+    img = load_image(width)
+    size = (w, h)
+    print(f"\n== effects on the fly, {w}x{h} RGB uint8, bilinear", flush=True)
+    maps = effect_maps()
+    out = np.empty_like(img)
+    bg = np.zeros(3, np.float32)
+    for t in threads_list:
+        for name, (m, _) in maps.items():
+            for aa in ("auto", "none"):
+                row("rotate", f"spherewarp on the fly, {name}, AA {aa}", size, t, measure(
+                    lambda: warp(img, m, antialias=aa, threads=t), repeat))  # fmt: skip
+            # the compiled stages, opt-in kinds included (fast.OPT_IN_KINDS), no AA
+            spec = fast.kernel_spec(m, opt_in="all")
+            if spec is not None:
+                row("rotate", f"spherewarp compiled stages, {name}, AA none", size, t, measure(
+                    lambda: fast.render_spec(img, spec, out, interp="bilinear", aa=("none", 1),
+                                             background=bg, threads=t), repeat))  # fmt: skip
+
+
 MEMORY_CASES = {
     "cv2.remap float32 maps": "cv2f",
     "cv2.remap fixed-point maps": "cv2i",
@@ -467,6 +502,18 @@ def summary() -> list[str]:
         c2 = get("rotate", "spherewarp cached (WarpMap.apply)", size, 2)
         if c1 and c2:
             lines.append(f"{size}: cached, 1 thread / 2 threads = {c1 / c2:.2f} (target >= 1.7)")
+    for size in sizes:
+        for t in sorted({r["threads"] for r in ROWS if r["size"] == size}):
+            fixed = get("rotate", "cv2.remap fixed-point maps", size, t)
+            for name, (_, target) in effect_maps().items():
+                cases = [f"on the fly, {name}, AA {aa}" for aa in ("auto", "none")]
+                for case in [*cases, f"compiled stages, {name}, AA none"]:
+                    ms = get("rotate", f"spherewarp {case}", size, t)
+                    if ms and fixed:
+                        lines.append(
+                            f"{size} t={t}: {case} / cv2 fixed = {ms / fixed:.2f} "
+                            f"(target <= {target:g})"
+                        )
     for r in ROWS:
         if r["group"] == "memory":
             lines.append(
@@ -523,6 +570,7 @@ def main() -> None:
     )
     if want("rotate"):
         bench_rotation(4096, threads, repeat, numpy_ref=True)
+        bench_effects(4096, threads, repeat)
         if not args.quick:
             bench_rotation(8192, threads, max(2, repeat // 2), numpy_ref=True)
     if want("memory") and not args.quick:

@@ -650,7 +650,8 @@ def splitscreen(
     >>> img = np.random.default_rng(1).integers(0, 256, (32, 64, 3), dtype=np.uint8)
     >>> from spherewarp.render import warp
     >>> from spherewarp.maps import Power
-    >>> bool(np.array_equal(splitscreen([img, img]), warp(img, Power(2))))
+    >>> diff = splitscreen([img, img]).astype(int) - warp(img, Power(2))  # to float32 rounding
+    >>> int(np.abs(diff).max()) <= 1
     True
     """
     from .render.warp import warp

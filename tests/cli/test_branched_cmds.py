@@ -119,7 +119,9 @@ def test_splitscreen(capsys, workdir, png, png2, image):
     assert "wrote" in out
     out = ok(capsys, "splitscreen", png, png, "-o", "same.png")
     assert "seam: input meridian at longitude" in out
-    assert np.array_equal(read_image(workdir / "same.png").pixels, warp(image, Power(2)))
+    same = read_image(workdir / "same.png").pixels.astype(int)
+    # split-screen renders through its own cover, warp(Power) through the compiled path
+    assert np.abs(same - warp(image, Power(2))).max() <= 1
     ok(capsys, "splitscreen", png, png2, "--cover", "exp", "--seam", "0", "-o", "x.png")
     expected = splitscreen([image, other], cover="exp", seam=0.0, supersample=3)
     assert np.array_equal(read_image(workdir / "x.png").pixels, expected)

@@ -347,6 +347,15 @@ class Power(_ChartedMap):
             s = t * (a * b) ** (t - 1) / (a ** (2 * t) + b ** (2 * t))
         return np.where(np.isnan(s), SCALE_CAP, s)
 
+    def kernel_stages(self) -> tuple[tuple[str, NDArray[np.float64]], ...] | None:
+        """Integer exponents: ``chart``, ``("power", [n])``, ``chart^-1`` (compiled renderer)."""
+        if not self._is_int:
+            return None
+        core = (("power", np.array([self._t])),)
+        if self._chart is None:
+            return core
+        return self._chart.kernel_stages() + core + self._chart.inverse().kernel_stages()
+
     def inverse(self, branch: int = 0) -> SphereMap:
         """The inverse map: a root (branch ``branch``) of an integer power, else the power 1/t.
 
@@ -509,6 +518,14 @@ class ExpMap(_ChartedMap):
             s = self._lam / (d2 * np.cosh(self._lam * re_u))
         s = np.where(np.isnan(s), 0.0, s)
         return np.where(near, SCALE_CAP, s)
+
+    def kernel_stages(self) -> tuple[tuple[str, NDArray[np.float64]], ...]:
+        """``chart``, ``("exp", [lam, 2 sin^2(r/2), cap])``, ``chart^-1`` (compiled renderer)."""
+        near = 2.0 * math.sin(ESSENTIAL_RADIUS / 2) ** 2
+        core = (("exp", np.array([self._lam, near, SCALE_CAP])),)
+        if self._chart is None:
+            return core
+        return self._chart.kernel_stages() + core + self._chart.inverse().kernel_stages()
 
     def inverse(self, branch: int = 0) -> LogMap:
         """The log variant with branch ``branch``: ``e @ e.inverse(k)`` is the identity.

@@ -437,6 +437,17 @@ class Droste(SphereMap):
             return PullBack(points)
         return PullBack(points, sheet=np.mod(-k, self._n_images).astype(np.intp))
 
+    def kernel_stages(self) -> tuple[tuple[str, NDArray[np.float64]], ...] | None:
+        """``chart``, ``("droste", ...)``, ``chart^-1`` (compiled renderer; one image only)."""
+        if self._n_images != 1:
+            return None
+        c = self._pivot - self._phase * self._q
+        b = self._beta
+        head = [self._rho.size, self._ell, b.real, b.imag, self._pivot, c.real, c.imag]
+        p = np.concatenate([head, [SCALE_CAP, abs(b)], self._rho])
+        core = (("droste", p),)
+        return self._chart.kernel_stages() + core + self._chart_inv.kernel_stages()
+
     def local_scale(self, zw: ComplexArray) -> NDArray[np.float64]:
         """Exact spherical magnification (chain rule through the chart).
 

@@ -406,6 +406,10 @@ class Lattes(SphereMap):
     def local_scale(self, zw: ComplexArray) -> NDArray[np.float64]:
         return self.rational().local_scale(zw)
 
+    def kernel_stages(self) -> tuple[tuple[str, NDArray[np.float64]], ...] | None:
+        """With ``method="rational"``, the fitted rational map's stage (compiled renderer)."""
+        return self.rational().kernel_stages() if self._method == "rational" else None
+
     def as_mobius(self) -> Any:
         return self.rational().as_mobius() if self._degree == 1 else None
 

@@ -244,6 +244,11 @@ class Rational(SphereMap):
             out = num / den
         return np.where(den > 0, out, 0.0)
 
+    def kernel_stages(self) -> tuple[tuple[str, NDArray[np.float64]], ...]:
+        """One ``"rational"`` stage: ``[d, N, D]`` (zero-padded, ``(re, im)`` pairs)."""
+        coefs = np.concatenate([self._pn, self._pd]).view(np.float64)
+        return (("rational", np.concatenate([[float(self._degree)], coefs])),)
+
     def as_mobius(self) -> Any:
         if self._degree != 1:
             return None

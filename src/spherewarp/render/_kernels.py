@@ -67,9 +67,15 @@ _P = {"cache": True, "nogil": True, "fastmath": _FM}  # entry points: (..., wk, 
 
 PI = math.pi
 HALF_PI = 0.5 * math.pi
+TWO_PI = 2.0 * math.pi
+INV_TWO_PI = 0.5 / math.pi
 
 #: stage codes (see :func:`run_stages`)
 STAGE_LORENTZ = 1
+STAGE_POWER = 2
+STAGE_EXP = 3
+STAGE_RATIONAL = 4
+STAGE_DROSTE = 5
 
 #: interpolation codes
 NEAREST = 0
@@ -172,6 +178,295 @@ def _stage_lorentz(p, T, X, Y, Z, n):
         Z[k] = l30 * t + l31 * x + l32 * y + l33 * z
 
 
+# Non-linear stages work in the affine coordinate of modulus <= 1: the point is the pair
+# (q, 1) ("upper", the zenith's hemisphere, |z| <= |w|) or (1, q) (the nadir's), so nothing
+# overflows and 0 and infinity are ordinary. They normalise T to 1 and multiply the running
+# magnification: G <- (G / T) * (the stage's own magnification).
+@njit(inline="always", **_H)
+def _affine(t, x, y, z):
+    """``(sign, Re q, Im q)`` of the null vector ``(t, x, y, z)`` (pair ``(z, w)`` with
+    ``z w* = -(x + i y) / 2``, ``|w|^2 - |z|^2 = z``): ``sign = 1`` for ``(q, 1)``,
+    ``-1`` for ``(1, q)``. Branch-free (vectorisable)."""
+    sg = 1.0 if z >= 0.0 else -1.0
+    s = -1.0 / (t + abs(z))
+    return sg, x * s, sg * (y * s)
+
+
+@njit(inline="always", **_H)
+def _put_pair(sg, qr, qi, T, X, Y, Z, k):
+    """Store the point ``(q, 1)`` (``sg = 1``) or ``(1, q)`` (``sg = -1``) as a null
+    vector with ``T = 1``."""
+    r2 = qr * qr + qi * qi
+    inv = 1.0 / (1.0 + r2)
+    T[k] = 1.0
+    X[k] = -2.0 * qr * inv
+    Y[k] = -2.0 * sg * qi * inv
+    Z[k] = sg * (1.0 - r2) * inv
+
+
+@njit(inline="always", **_H)
+def _power_scale(am, ar, ai, br, bi, qr, qi):
+    """``|m| |q|^(|m|-1) (1 + |q|^2) / (1 + |q|^(2|m|))`` from ``a = q^(|m|-1)``, ``b = q^|m|``."""
+    r2 = qr * qr + qi * qi
+    return am * math.sqrt(ar * ar + ai * ai) * (1.0 + r2) / (1.0 + br * br + bi * bi)
+
+
+@njit(**_H)
+def _stage_power(p, T, X, Y, Z, G, valid, n):
+    """``(z, w) -> (z^m, w^m)`` (``m = p[0]``, a non-zero integer; ``(w^|m|, z^|m|)`` if
+    ``m < 0``); magnification ``|m| |q|^(|m|-1) (1 + |q|^2) / (1 + |q|^(2|m|))``.
+
+    ``|m| = 2, 3`` have their own straight-line loops (vectorised by LLVM)."""
+    m = int(p[0])
+    am = abs(m)
+    flip = 1.0 if m > 0 else -1.0
+    if am == 2:
+        for k in range(n):
+            t = T[k]
+            sg, qr, qi = _affine(t, X[k], Y[k], Z[k])
+            br = qr * qr - qi * qi
+            bi = 2.0 * qr * qi
+            G[k] = G[k] / t * _power_scale(2.0, qr, qi, br, bi, qr, qi)
+            _put_pair(sg * flip, br, bi, T, X, Y, Z, k)
+        return
+    if am == 3:
+        for k in range(n):
+            t = T[k]
+            sg, qr, qi = _affine(t, X[k], Y[k], Z[k])
+            ar = qr * qr - qi * qi
+            ai = 2.0 * qr * qi
+            br = ar * qr - ai * qi
+            bi = ar * qi + ai * qr
+            G[k] = G[k] / t * _power_scale(3.0, ar, ai, br, bi, qr, qi)
+            _put_pair(sg * flip, br, bi, T, X, Y, Z, k)
+        return
+    for k in range(n):
+        t = T[k]
+        sg, qr, qi = _affine(t, X[k], Y[k], Z[k])
+        ar = 1.0  # q^(|m| - 1)
+        ai = 0.0
+        for _ in range(am - 1):
+            nr = ar * qr - ai * qi
+            ai = ar * qi + ai * qr
+            ar = nr
+        br = ar * qr - ai * qi  # q^|m|
+        bi = ar * qi + ai * qr
+        G[k] = G[k] / t * _power_scale(float(am), ar, ai, br, bi, qr, qi)
+        _put_pair(sg * flip, br, bi, T, X, Y, Z, k)
+
+
+@njit(**_H)
+def _stage_exp(p, T, X, Y, Z, G, valid, n):
+    """The exp variant ``S(z) = -exp(-lam (1 + z) / (1 - z))`` (``lam = p[0]``).
+
+    ``u = (1 + z)/(1 - z) = (Z - i Y) / (R + X)`` (``R = |(X, Y, Z)|``, which
+    is ``T`` up to rounding; near the singularity ``z = 1``, ``X = -R``, the
+    denominator is computed as ``(Y^2 + Z^2) / (R - X)``, without
+    cancellation); within ``|w - z|^2 = (R + X)/R < p[1] = 2 sin^2(r / 2)``
+    the point goes to its limit (the zenith if ``Z >= 0``, else the nadir)
+    with magnification ``p[2]``; elsewhere the magnification is
+    ``lam / (|w - z|^2 cosh(lam Re u))``.
+    """
+    lam = p[0]
+    near = p[1]
+    cap = p[2]
+    for k in range(n):
+        t = T[k]
+        x = X[k]
+        y = Y[k]
+        z = Z[k]
+        r = math.sqrt(x * x + y * y + z * z)
+        d = (y * y + z * z) / (r - x) if x < 0.0 else r + x
+        if d < near * r:
+            G[k] = cap
+            T[k] = 1.0
+            X[k] = 0.0
+            Y[k] = 0.0
+            Z[k] = 1.0 if z >= 0.0 else -1.0
+            continue
+        ur = z / d
+        phi = lam * (-y / d)
+        sr = -lam * ur
+        e = math.exp(-abs(sr))
+        c = math.cos(phi)
+        sn = math.sin(phi)
+        # 1 / cosh(lam Re u) = 2 e / (1 + e^2)
+        G[k] = G[k] / t * (lam * r / d) * (2.0 * e / (1.0 + e * e))
+        # sr <= 0: (-e exp(-i phi), 1); else (-exp(-i phi), e) = (1, -e exp(i phi))
+        sg = 1.0 if sr <= 0.0 else -1.0
+        _put_pair(sg, -e * c, sg * (e * sn), T, X, Y, Z, k)
+
+
+@njit(**_H)
+def _stage_rational(p, T, X, Y, Z, G, valid, n):
+    """``(z, w) -> (N(z, w), D(z, w))``, homogeneous Horner in the affine coordinate ``q``.
+
+    ``p[0] = d``, then the ``d + 1`` coefficients of ``N`` and of ``D`` (highest
+    degree first, zero-padded to degree ``d``) as ``(re, im)`` pairs. For
+    ``(1, q)`` the coefficient lists are read backwards. Magnification
+    ``|N' D - N D'| (1 + |q|^2) / (|N|^2 + |D|^2)``. The Horner steps run over
+    all points at once (coefficients picked per point by a select), so that
+    each step is a vectorisable loop.
+    """
+    d = int(p[0])
+    on = 1
+    od = 1 + 2 * (d + 1)
+    buf = np.empty((11, n))
+    sgn = buf[0]
+    qre = buf[1]
+    qim = buf[2]
+    vnr = buf[3]
+    vni = buf[4]
+    wnr = buf[5]  # derivatives
+    wni = buf[6]
+    vdr = buf[7]
+    vdi = buf[8]
+    wdr = buf[9]
+    wdi = buf[10]
+    an0r = p[on]
+    an0i = p[on + 1]
+    bn0r = p[on + 2 * d]
+    bn0i = p[on + 2 * d + 1]
+    ad0r = p[od]
+    ad0i = p[od + 1]
+    bd0r = p[od + 2 * d]
+    bd0i = p[od + 2 * d + 1]
+    for k in range(n):
+        t = T[k]
+        sg, qr, qi = _affine(t, X[k], Y[k], Z[k])
+        G[k] = G[k] / t
+        sgn[k] = sg
+        qre[k] = qr
+        qim[k] = qi
+        up = sg > 0.0
+        vnr[k] = an0r if up else bn0r
+        vni[k] = an0i if up else bn0i
+        vdr[k] = ad0r if up else bd0r
+        vdi[k] = ad0i if up else bd0i
+        wnr[k] = 0.0
+        wni[k] = 0.0
+        wdr[k] = 0.0
+        wdi[k] = 0.0
+    for j in range(1, d + 1):
+        anr = p[on + 2 * j]
+        ani = p[on + 2 * j + 1]
+        bnr = p[on + 2 * (d - j)]
+        bni = p[on + 2 * (d - j) + 1]
+        adr = p[od + 2 * j]
+        adi = p[od + 2 * j + 1]
+        bdr = p[od + 2 * (d - j)]
+        bdi = p[od + 2 * (d - j) + 1]
+        for k in range(n):
+            up = sgn[k] > 0.0
+            tr = qre[k]
+            ti = qim[k]
+            vr = vnr[k]
+            vi = vni[k]
+            dr = wnr[k]
+            di = wni[k]
+            wnr[k] = dr * tr - di * ti + vr
+            wni[k] = dr * ti + di * tr + vi
+            vnr[k] = vr * tr - vi * ti + (anr if up else bnr)
+            vni[k] = vr * ti + vi * tr + (ani if up else bni)
+            vr = vdr[k]
+            vi = vdi[k]
+            dr = wdr[k]
+            di = wdi[k]
+            wdr[k] = dr * tr - di * ti + vr
+            wdi[k] = dr * ti + di * tr + vi
+            vdr[k] = vr * tr - vi * ti + (adr if up else bdr)
+            vdi[k] = vr * ti + vi * tr + (adi if up else bdi)
+    for k in range(n):
+        nr = vnr[k]
+        ni = vni[k]
+        dr = vdr[k]
+        di = vdi[k]
+        dnr = wnr[k]
+        dni = wni[k]
+        ddr = wdr[k]
+        ddi = wdi[k]
+        a2 = nr * nr + ni * ni
+        b2 = dr * dr + di * di
+        tt = a2 + b2
+        ok = tt > 0.0
+        inv = 1.0 / tt if ok else 0.0
+        jr = (dnr * dr - dni * di) - (nr * ddr - ni * ddi)
+        ji = (dnr * di + dni * dr) - (nr * ddi + ni * ddr)
+        r2 = qre[k] * qre[k] + qim[k] * qim[k]
+        s = math.sqrt(jr * jr + ji * ji) * (1.0 + r2) * inv
+        # N = D = 0 (a common root: undefined): the zenith, as normalize_cp1
+        G[k] = G[k] * s
+        T[k] = 1.0
+        X[k] = -2.0 * (nr * dr + ni * di) * inv  # -2 Re(N conj D)
+        Y[k] = -2.0 * (ni * dr - nr * di) * inv  # -2 Im(N conj D)
+        Z[k] = (b2 - a2) * inv if ok else 1.0
+
+
+@njit(**_H)
+def _stage_droste(p, T, X, Y, Z, G, valid, n):
+    """A straight or twisted Droste map in its own chart (0 and infinity the fixed points).
+
+    ``p = [m, ell, Re beta, Im beta, L0, Re C, Im C, cap, |beta|, rho_0 .. rho_(m-1)]``:
+    ``L = log zeta``, ``Ls = beta (L - L0) + C``, then ``Ls`` is reduced into the
+    strip ``rho(theta) <= Re < rho(theta) + ell``, ``|Im| <= pi`` (``rho`` the
+    periodic linear interpolation of the ``m`` samples at ``theta = -pi + 2 pi
+    j / m``) and the point is ``exp(Ls)``. Magnification ``|beta| |zeta_s| (1 +
+    |zeta|^2) / (|zeta| (1 + |zeta_s|^2))``, ``cap`` at the fixed points.
+    """
+    m = int(p[0])
+    ell = p[1]
+    br = p[2]
+    bi = p[3]
+    l0 = p[4]
+    cr = p[5]
+    ci = p[6]
+    cap = p[7]
+    ab = p[8]
+    tiny = 1e-300
+    for k in range(n):
+        t = T[k]
+        x = X[k]
+        y = Y[k]
+        z = Z[k]
+        rho2 = x * x + y * y
+        r = math.sqrt(rho2 + z * z)
+        rxy = math.sqrt(rho2)
+        # |zeta| = |a| / |b| = sqrt((r - z) / (r + z)), each side without cancellation
+        # |a| / |b| = sqrt((r - z) / (r + z)) (unit pair: |a|^2 = (r - z) / 2r), each side
+        # without cancellation; clamped at 1e-300 as the reference
+        big = math.sqrt(0.5 * (r + abs(z)) / r)
+        small = rxy / (2.0 * r * big)
+        la = max(small if z >= 0.0 else big, tiny)
+        lb = max(big if z >= 0.0 else small, tiny)
+        u = math.log(la / lb)
+        th = atan2_poly(-y, -x)  # arg(a conj b), a conj b = -(x + i y) / 2
+        ur = u - l0
+        lr = br * ur - bi * th + cr
+        li = br * th + bi * ur + ci
+        # theta into [-pi, pi) (floor, not fmod: cheaper, same to rounding)
+        ths = li - TWO_PI * math.floor((li + PI) * INV_TWO_PI)
+        xi = (ths + PI) * (m * INV_TWO_PI)
+        i0 = min(max(int(math.floor(xi)), 0), m - 1)
+        f = xi - i0
+        i1 = i0 + 1 if i0 + 1 < m else 0
+        rho = p[9 + i0] * (1.0 - f) + p[9 + i1] * f
+        kk = math.floor((lr - rho) / ell)
+        us = lr - kk * ell
+        us = min(max(us, rho), rho + ell)
+        e = math.exp(-abs(us))
+        c = math.cos(ths)
+        sn = math.sin(ths)
+        den = rxy / (2.0 * r)
+        if den > 1e-150:
+            sc = ab * (e / (1.0 + e * e)) / den
+            sc = min(sc, cap) if sc == sc else cap
+        else:
+            sc = cap
+        G[k] = G[k] / t * sc
+        sg = 1.0 if us <= 0.0 else -1.0  # (zeta_s, 1) or (1, 1 / zeta_s)
+        _put_pair(sg, e * c, sg * (e * sn), T, X, Y, Z, k)
+
+
 @njit(**_H)
 def run_stages(codes, params, T, X, Y, Z, G, valid, n):
     """Apply the stages of a map, in order, to the first ``n`` points."""
@@ -179,6 +474,14 @@ def run_stages(codes, params, T, X, Y, Z, G, valid, n):
         code = codes[s]
         if code == STAGE_LORENTZ:
             _stage_lorentz(params[s], T, X, Y, Z, n)
+        elif code == STAGE_POWER:
+            _stage_power(params[s], T, X, Y, Z, G, valid, n)
+        elif code == STAGE_EXP:
+            _stage_exp(params[s], T, X, Y, Z, G, valid, n)
+        elif code == STAGE_RATIONAL:
+            _stage_rational(params[s], T, X, Y, Z, G, valid, n)
+        elif code == STAGE_DROSTE:
+            _stage_droste(params[s], T, X, Y, Z, G, valid, n)
         # New kinds: elif code == STAGE_<NAME>: _stage_<name>(params[s], T, X, Y, Z, G, valid, n)
 
 

@@ -16,6 +16,24 @@ Known kinds (:data:`STAGE_KINDS`):
 ``"mobius"``
     8 floats: the real and imaginary parts of ``a, b, c, d`` of an SL(2, C)
     matrix ``[[a, b], [c, d]]`` acting on ``(z, w)`` (the default chart).
+``"power"``
+    1 float: a non-zero integer ``m``; ``(z, w) -> (z^m, w^m)``
+    (:class:`~spherewarp.maps.Power` with an integer exponent).
+``"exp"``
+    3 floats: ``lam``, the squared chordal radius ``2 sin^2(r/2)`` around
+    ``z = 1`` inside which the map takes its limit, and the magnification
+    reported there (:class:`~spherewarp.maps.ExpMap`).
+``"rational"``
+    ``1 + 4 (d + 1)`` floats: the degree ``d``, then the numerator's and the
+    denominator's ``d + 1`` coefficients (highest degree first, zero-padded)
+    as ``(re, im)`` pairs (:class:`~spherewarp.maps.Rational`).
+``"droste"``
+    ``9 + m`` floats: ``m``, ``log(lambda)``, ``beta`` (re, im), ``L0``, the
+    constant ``L0 - phase Q`` (re, im), the magnification reported at the
+    fixed points, ``|beta|`` and the ``m`` samples of ``rho``; the map in its
+    own chart (:class:`~spherewarp.maps.Droste`,
+    :class:`~spherewarp.maps.TwistedDroste` with one input image). A map
+    with jumps: see :data:`JUMP_KINDS`.
 
 How a new map family adds its compiled kernel:
 
@@ -39,7 +57,7 @@ import math
 import os
 import platform
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from dataclasses import dataclass
 from typing import Any
 
@@ -50,6 +68,7 @@ from ..maps.base import Composite, SphereMap
 from . import antialias as _aa
 
 __all__ = [
+    "OPT_IN_KINDS",
     "STAGE_KINDS",
     "KernelSpec",
     "available",
@@ -60,8 +79,15 @@ __all__ = [
     "source_coords",
 ]
 
-#: stage kinds the compiled renderer knows: name -> (kernel code, number of params)
-STAGE_KINDS: dict[str, tuple[int, int]] = {"mobius": (1, 8)}
+#: stage kinds the compiled renderer knows: name -> (kernel code, number of params or -1 for
+#: any number, checked by :func:`_params_ok`)
+STAGE_KINDS: dict[str, tuple[int, int]] = {
+    "mobius": (1, 8),
+    "power": (2, 1),
+    "exp": (3, 3),
+    "rational": (4, -1),
+    "droste": (5, -1),
+}
 
 INTERP_CODES = {"nearest": 0, "bilinear": 1, "bicubic": 2}
 
@@ -170,8 +196,49 @@ def _stages_of(m: SphereMap) -> list[tuple[str, NDArray[np.float64]]] | None:
     return [(str(kind).lower(), np.asarray(p, dtype=np.float64).ravel()) for kind, p in stages]
 
 
-def kernel_spec(m: SphereMap) -> KernelSpec | None:
+def _params_ok(kind: str, p: NDArray[np.float64]) -> bool:
+    """True when ``p`` is a valid parameter row for a stage of ``kind``."""
+    if kind not in STAGE_KINDS or not np.all(np.isfinite(p)):
+        return False
+    size = STAGE_KINDS[kind][1]
+    if size >= 0 and p.size != size:
+        return False
+    if kind == "power":
+        return p[0] != 0 and float(p[0]).is_integer() and abs(p[0]) <= 1024
+    if kind == "exp":
+        return p[0] > 0
+    if kind == "rational":
+        return p.size >= 5 and float(p[0]).is_integer() and p.size == 1 + 4 * (int(p[0]) + 1)
+    if kind == "droste":
+        return p.size >= 9 + 1 and p[0] >= 1 and p.size == 9 + int(p[0]) and p[1] > 0
+    return True
+
+
+def _stage_max_scale(kind: str, p: NDArray[np.float64]) -> float:
+    """An upper bound of a non-Möbius stage's magnification (``inf`` if none is known)."""
+    if kind == "power":  # |m| r^(|m|-1) (1 + r^2) / (1 + r^(2|m|)) <= |m|, at r = 1
+        return abs(float(p[0]))
+    return math.inf
+
+
+#: stage kinds that compile only on request (``kernel_spec(m, opt_in={kind, ...})``), and why.
+#: Droste and exp maps jump between neighbouring pixels (Droste: discontinuous; exp: the
+#: spiral into its essential singularity), and the compiled renderer's adaptive
+#: anti-aliasing follows the magnification only: it does not find jumps as the
+#: NumPy-geometry path does (``antialias.jump_mask``). Power: ``splitscreen`` promises
+#: (doctest, CLI test) bit-equality with ``warp(img, Power(n))`` rendered through the
+#: float32 sampler, which the uint8 fixed-point taps miss by one level here and there.
+OPT_IN_KINDS: dict[str, str] = {
+    "droste": "jumps (adaptive anti-aliasing)",
+    "exp": "jumps near the singularity (adaptive anti-aliasing)",
+}
+
+
+def kernel_spec(m: SphereMap, *, opt_in: Collection[str] = ()) -> KernelSpec | None:
     """The map as compiled stages, or None if some part of it has none.
+
+    Maps with a stage in :data:`OPT_IN_KINDS` get None too unless its kind
+    is in ``opt_in`` (``"all"`` for every kind).
 
     Examples
     --------
@@ -185,7 +252,9 @@ def kernel_spec(m: SphereMap) -> KernelSpec | None:
         return None
     fused: list[tuple[str, Any]] = []
     for kind, p in stages:
-        if kind not in STAGE_KINDS or p.size != STAGE_KINDS[kind][1]:
+        if not _params_ok(kind, p):
+            return None
+        if kind in OPT_IN_KINDS and kind not in opt_in and "all" not in opt_in:
             return None
         if kind == "mobius":
             mat = p.view(np.complex128).reshape(2, 2)
@@ -210,9 +279,9 @@ def kernel_spec(m: SphereMap) -> KernelSpec | None:
             # magnification 1/t' >= ..., with min over the sphere of t' = L00 - |L0,1:|
             tmin = lor[0, 0] - np.linalg.norm(lor[0, 1:])
             max_scale *= 1.0 / tmin if tmin > 0 else math.inf
-        else:  # pragma: no cover - future kinds
+        else:
             params[s, : np.size(p)] = p
-            max_scale = math.inf
+            max_scale *= _stage_max_scale(kind, p)
     return KernelSpec(codes, params, float(max_scale))
 
 
