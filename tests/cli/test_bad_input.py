@@ -38,12 +38,6 @@ def digest(path: Path) -> str:
 
 
 @pytest.fixture
-def workdir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    monkeypatch.chdir(tmp_path)
-    return tmp_path
-
-
-@pytest.fixture
 def good_png(workdir: Path) -> Path:
     return write_image(workdir / "in.png", make_pattern(W, labels=False))
 

@@ -39,12 +39,6 @@ def ok(capsys: pytest.CaptureFixture[str], *args: object) -> str:
 
 
 @pytest.fixture
-def workdir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    monkeypatch.chdir(tmp_path)
-    return tmp_path
-
-
-@pytest.fixture
 def pattern_png(workdir: Path) -> Path:
     """A 128x64 test pattern (no labels) as an 8-bit PNG."""
     return write_image(workdir / "in.png", make_test_pattern(W, labels=False))

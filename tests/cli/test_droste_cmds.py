@@ -50,12 +50,6 @@ def digest(path: Path) -> str:
 
 
 @pytest.fixture
-def workdir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    monkeypatch.chdir(tmp_path)
-    return tmp_path
-
-
-@pytest.fixture
 def pattern(workdir: Path) -> tuple[Path, np.ndarray]:
     pixels = make_test_pattern(W, labels=False)
     return write_image(workdir / "in.png", pixels), pixels

@@ -7,42 +7,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _cli import fails, ok, run  # noqa: F401
 
-from spherewarp.cli import main
 from spherewarp.io import read_image, write_image
 from spherewarp.maps import Lattes, Rational, map_from_dict
 from spherewarp.projections import peirce_to_equirect, render_peirce
 from spherewarp.render import warp
 from spherewarp.torus import render_torus, render_torus_texture
-
-
-def run(capsys: pytest.CaptureFixture[str], *args: object) -> tuple[int, str, str]:
-    try:
-        main([str(a) for a in args])
-        code = 0
-    except SystemExit as exc:
-        code = exc.code if isinstance(exc.code, int) else 1
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def ok(capsys: pytest.CaptureFixture[str], *args: object) -> str:
-    code, out, err = run(capsys, *args)
-    assert code == 0, err
-    return out
-
-
-def fails(capsys: pytest.CaptureFixture[str], *args: object) -> str:
-    code, out, err = run(capsys, *args)
-    assert code == 2, (code, out, err)
-    assert err.startswith("spherewarp: error:") and err.count("\n") == 1, err
-    return err
-
-
-@pytest.fixture
-def workdir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    monkeypatch.chdir(tmp_path)
-    return tmp_path
 
 
 @pytest.fixture
