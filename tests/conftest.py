@@ -109,3 +109,10 @@ def _smooth_image(height: int = 64, dtype: type = np.float32) -> np.ndarray:
     if np.dtype(dtype).kind == "u":
         return np.rint(img * np.iinfo(dtype).max).astype(dtype)
     return img.astype(dtype)
+
+
+@pytest.fixture
+def workdir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """A temporary directory that is also the current directory (for CLI tests)."""
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
