@@ -10,32 +10,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _cli import ok, run  # noqa: F401
 
 from spherewarp import coords
-from spherewarp.cli import COMMANDS, main
+from spherewarp.cli import COMMANDS
 from spherewarp.io import GPano, read_image, write_image
 from spherewarp.maps import Mobius, map_from_json
 from spherewarp.render import warp
 from spherewarp.testpattern import make_test_pattern
 
 W, H = 128, 64
-
-
-def run(capsys: pytest.CaptureFixture[str], *args: object) -> tuple[int, str, str]:
-    """Run ``spherewarp ARGS`` in-process: (exit status, stdout, stderr)."""
-    try:
-        main([str(a) for a in args])
-        code = 0
-    except SystemExit as exc:
-        code = exc.code if isinstance(exc.code, int) else 1
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def ok(capsys: pytest.CaptureFixture[str], *args: object) -> str:
-    code, out, err = run(capsys, *args)
-    assert code == 0, err
-    return out
 
 
 @pytest.fixture

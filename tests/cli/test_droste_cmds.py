@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _cli import ok, run  # noqa: F401
 
-from spherewarp.cli import main
 from spherewarp.cli.droste_cmds import frame_paths
 from spherewarp.droste import (
     droste_image,
@@ -27,22 +27,6 @@ from spherewarp.testpattern import make_test_pattern
 W, H = 128, 64
 FRAME = ["-20,20", "20,20", "20,-20", "-20,-20"]
 CORNERS = [(-20.0, 20.0), (20.0, 20.0), (20.0, -20.0), (-20.0, -20.0)]
-
-
-def run(capsys: pytest.CaptureFixture[str], *args: object) -> tuple[int, str, str]:
-    try:
-        main([str(a) for a in args])
-        code = 0
-    except SystemExit as exc:
-        code = exc.code if isinstance(exc.code, int) else 1
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def ok(capsys: pytest.CaptureFixture[str], *args: object) -> str:
-    code, out, err = run(capsys, *args)
-    assert code == 0, err
-    return out
 
 
 def digest(path: Path) -> str:
