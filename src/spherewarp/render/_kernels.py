@@ -42,6 +42,18 @@ undefined), give it a code ``STAGE_<NAME>`` and add its branch to
 :func:`run_stages`; then register the name in
 ``spherewarp.render.fast.STAGE_KINDS``.
 
+Keep its loops vectorisable, as the existing stages are: compile it with
+``_V`` (numba's ``'numpy'`` error model: no zero-divisor check, which is an
+early exit), write branches as selects (``a if c else b``), call
+:mod:`._fastmath` instead of ``math.exp``/``log``/``sin``/``cos`` (opaque
+calls), index arrays with the loop variable (an offset ``k0 + k`` keeps
+numba's negative-index wrap-around: pass slices instead), and read no array
+at computed indices in a loop that writes the point arrays (a gather there
+needs an overlap check LLVM cannot make; write to a :func:`_stack_block`
+instead). :func:`run_stages` is compiled without reference counting
+(``_nrt=False``), so a stage may not allocate: its scratch goes on the stack
+(:func:`_stack_block`).
+
 Unaligned loads
 ---------------
 The uint8 bilinear path reads two neighbouring pixels at once with one
@@ -56,7 +68,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.core import cgutils
+from numba.core.extending import intrinsic
+from numba.np.arrayobj import populate_array
+
+from ._fastmath import SINCOS_MAX, fexp, flog, fsincos
 
 # Only contraction (FMA) and signless zeros: 'reassoc' rewrites (1 - t) a + t b as
 # a + t (b - a), which is not exact at t = 1; 'nnan'/'ninf' would break the selects that
@@ -64,6 +82,11 @@ from numba import njit
 _FM = {"contract", "nsz"}
 _H = {"cache": True, "nogil": True, "fastmath": _FM}  # helpers
 _P = {"cache": True, "nogil": True, "fastmath": _FM}  # entry points: (..., wk, nw)
+# Vectorised loops (the stages, to_source): numba's default ('python') error model checks
+# every float division for a zero divisor and raises ZeroDivisionError, an early exit that
+# stops LLVM from vectorising the loop. With 'numpy' a division by zero gives inf/nan,
+# which the stages discard with selects where it can happen.
+_V = {"cache": True, "nogil": True, "fastmath": _FM, "error_model": "numpy"}
 
 PI = math.pi
 HALF_PI = 0.5 * math.pi
@@ -205,13 +228,21 @@ def _put_pair(sg, qr, qi, T, X, Y, Z, k):
 
 
 @njit(inline="always", **_H)
-def _power_scale(am, ar, ai, br, bi, qr, qi):
-    """``|m| |q|^(|m|-1) (1 + |q|^2) / (1 + |q|^(2|m|))`` from ``a = q^(|m|-1)``, ``b = q^|m|``."""
-    r2 = qr * qr + qi * qi
-    return am * math.sqrt(ar * ar + ai * ai) * (1.0 + r2) / (1.0 + br * br + bi * bi)
+def _power_put(sg, am, t, ra, r2, br, bi, T, X, Y, Z, G, k):
+    """Store the point ``(b, 1)`` (``sg = 1``) or ``(1, b)`` (``b = q^|m|``) as
+    :func:`_put_pair` does, and ``G <- G / t * |m| |a| (1 + |q|^2) / (1 + |b|^2)``
+    (``ra = |a|``, ``a = q^(|m| - 1)``, ``r2 = |q|^2``): one division for both."""
+    b2 = br * br + bi * bi
+    dd = 1.0 / ((1.0 + b2) * t)
+    inv = t * dd
+    G[k] = G[k] * (am * ra * (1.0 + r2) * dd)
+    T[k] = 1.0
+    X[k] = -2.0 * br * inv
+    Y[k] = -2.0 * sg * bi * inv
+    Z[k] = sg * (1.0 - b2) * inv
 
 
-@njit(**_H)
+@njit(**_V)
 def _stage_power(p, T, X, Y, Z, G, valid, n):
     """``(z, w) -> (z^m, w^m)`` (``m = p[0]``, a non-zero integer; ``(w^|m|, z^|m|)`` if
     ``m < 0``); magnification ``|m| |q|^(|m|-1) (1 + |q|^2) / (1 + |q|^(2|m|))``.
@@ -224,38 +255,37 @@ def _stage_power(p, T, X, Y, Z, G, valid, n):
         for k in range(n):
             t = T[k]
             sg, qr, qi = _affine(t, X[k], Y[k], Z[k])
+            r2 = qr * qr + qi * qi
             br = qr * qr - qi * qi
             bi = 2.0 * qr * qi
-            G[k] = G[k] / t * _power_scale(2.0, qr, qi, br, bi, qr, qi)
-            _put_pair(sg * flip, br, bi, T, X, Y, Z, k)
-        return
-    if am == 3:
+            _power_put(sg * flip, 2.0, t, math.sqrt(r2), r2, br, bi, T, X, Y, Z, G, k)
+    elif am == 3:
         for k in range(n):
             t = T[k]
             sg, qr, qi = _affine(t, X[k], Y[k], Z[k])
+            r2 = qr * qr + qi * qi
             ar = qr * qr - qi * qi
             ai = 2.0 * qr * qi
             br = ar * qr - ai * qi
             bi = ar * qi + ai * qr
-            G[k] = G[k] / t * _power_scale(3.0, ar, ai, br, bi, qr, qi)
-            _put_pair(sg * flip, br, bi, T, X, Y, Z, k)
-        return
-    for k in range(n):
-        t = T[k]
-        sg, qr, qi = _affine(t, X[k], Y[k], Z[k])
-        ar = 1.0  # q^(|m| - 1)
-        ai = 0.0
-        for _ in range(am - 1):
-            nr = ar * qr - ai * qi
-            ai = ar * qi + ai * qr
-            ar = nr
-        br = ar * qr - ai * qi  # q^|m|
-        bi = ar * qi + ai * qr
-        G[k] = G[k] / t * _power_scale(float(am), ar, ai, br, bi, qr, qi)
-        _put_pair(sg * flip, br, bi, T, X, Y, Z, k)
+            _power_put(sg * flip, 3.0, t, r2, r2, br, bi, T, X, Y, Z, G, k)
+    else:
+        for k in range(n):
+            t = T[k]
+            sg, qr, qi = _affine(t, X[k], Y[k], Z[k])
+            ar = 1.0  # q^(|m| - 1)
+            ai = 0.0
+            for _ in range(am - 1):
+                nr = ar * qr - ai * qi
+                ai = ar * qi + ai * qr
+                ar = nr
+            br = ar * qr - ai * qi  # q^|m|
+            bi = ar * qi + ai * qr
+            ra = math.sqrt(ar * ar + ai * ai)
+            _power_put(sg * flip, float(am), t, ra, qr * qr + qi * qi, br, bi, T, X, Y, Z, G, k)
 
 
-@njit(**_H)
+@njit(**_V)
 def _stage_exp(p, T, X, Y, Z, G, valid, n):
     """The exp variant ``S(z) = -exp(-lam (1 + z) / (1 - z))`` (``lam = p[0]``).
 
@@ -266,152 +296,391 @@ def _stage_exp(p, T, X, Y, Z, G, valid, n):
     the point goes to its limit (the zenith if ``Z >= 0``, else the nadir)
     with magnification ``p[2]``; elsewhere the magnification is
     ``lam / (|w - z|^2 cosh(lam Re u))``.
+
+    One branch-free loop (vectorised: :mod:`._fastmath` instead of libm, selects
+    instead of ``continue``), with ``T`` for ``R`` (no square root; the two
+    differ by the vector's rounding, which ``(Y^2 + Z^2) / (T - X)`` does not
+    amplify either; the magnification's ``R / T`` is then 1). The few points with
+    ``|lam Im u| > SINCOS_MAX`` (next to the singularity) are left as they are,
+    marked with a negative ``T`` (``T`` is positive on the sphere's null cone),
+    and redone after the loop with ``math.sin``/``math.cos`` (:func:`_exp_point`).
     """
     lam = p[0]
     near = p[1]
     cap = p[2]
+    nbig = 0
     for k in range(n):
         t = T[k]
         x = X[k]
         y = Y[k]
         z = Z[k]
-        r = math.sqrt(x * x + y * y + z * z)
-        d = (y * y + z * z) / (r - x) if x < 0.0 else r + x
-        if d < near * r:
-            G[k] = cap
-            T[k] = 1.0
-            X[k] = 0.0
-            Y[k] = 0.0
-            Z[k] = 1.0 if z >= 0.0 else -1.0
-            continue
-        ur = z / d
-        phi = lam * (-y / d)
-        sr = -lam * ur
-        e = math.exp(-abs(sr))
-        c = math.cos(phi)
-        sn = math.sin(phi)
-        # 1 / cosh(lam Re u) = 2 e / (1 + e^2)
-        G[k] = G[k] / t * (lam * r / d) * (2.0 * e / (1.0 + e * e))
-        # sr <= 0: (-e exp(-i phi), 1); else (-exp(-i phi), e) = (1, -e exp(i phi))
-        sg = 1.0 if sr <= 0.0 else -1.0
-        _put_pair(sg, -e * c, sg * (e * sn), T, X, Y, Z, k)
+        g = G[k]
+        # 1 / d with d = T + X, for X < 0 as (Y^2 + Z^2) / (T - X): one division
+        neg = x < 0.0
+        inv_d = (t - x if neg else 1.0) / (y * y + z * z if neg else t + x)
+        inside = near * t * inv_d > 1.0  # d < near T (d = 0: inv_d = inf)
+        phi = -lam * y * inv_d  # lam Im u (u = (Z - i Y) / d)
+        sr = -lam * z * inv_d  # -lam Re u
+        e = fexp(-abs(sr))
+        sn, c = fsincos(phi)
+        # sr <= 0: (-e exp(-i phi), 1); else (-exp(-i phi), e) = (1, -e exp(i phi)); the
+        # pair's |q|^2 is e^2 (|exp(i phi)| = 1 to rounding), so 1 / (1 + |q|^2) is also
+        # the 1 / cosh(lam Re u) = 2 e / (1 + e^2) of the magnification
+        w = 1.0 / (1.0 + e * e)
+        gs = g * (lam * inv_d) * (2.0 * e * w)
+        zs = (1.0 - e * e) * w
+        big = (abs(phi) > SINCOS_MAX) and not inside
+        nbig += big
+        T[k] = -t if big else 1.0
+        G[k] = g if big else (cap if inside else gs)
+        X[k] = x if big else (0.0 if inside else 2.0 * e * c * w)
+        Y[k] = y if big else (0.0 if inside else -2.0 * e * sn * w)
+        zl = 1.0 if z >= 0.0 else -1.0
+        Z[k] = z if big else (zl if inside else (zs if sr <= 0.0 else -zs))
+    if nbig > 0:
+        for k in range(n):
+            if T[k] < 0.0:
+                _exp_point(lam, T, X, Y, Z, G, k)
 
 
 @njit(**_H)
-def _stage_rational(p, T, X, Y, Z, G, valid, n):
-    """``(z, w) -> (N(z, w), D(z, w))``, homogeneous Horner in the affine coordinate ``q``.
+def _exp_point(lam, T, X, Y, Z, G, k):
+    """Point ``k`` of :func:`_stage_exp` (marked ``T[k] = -t``) with libm's sin/cos."""
+    t = -T[k]
+    x = X[k]
+    y = Y[k]
+    z = Z[k]
+    r = math.sqrt(x * x + y * y + z * z)
+    d = (y * y + z * z) / (r - x) if x < 0.0 else r + x
+    ur = z / d
+    phi = lam * (-y / d)
+    sr = -lam * ur
+    e = math.exp(-abs(sr))
+    G[k] = G[k] / t * (lam * r / d) * (2.0 * e / (1.0 + e * e))
+    sg = 1.0 if sr <= 0.0 else -1.0
+    _put_pair(sg, -e * math.cos(phi), sg * (e * math.sin(phi)), T, X, Y, Z, k)
 
-    ``p[0] = d``, then the ``d + 1`` coefficients of ``N`` and of ``D`` (highest
-    degree first, zero-padded to degree ``d``) as ``(re, im)`` pairs. For
-    ``(1, q)`` the coefficient lists are read backwards. Magnification
-    ``|N' D - N D'| (1 + |q|^2) / (|N|^2 + |D|^2)``. The Horner steps run over
-    all points at once (coefficients picked per point by a select), so that
-    each step is a vectorisable loop.
+
+@intrinsic
+def _stack_block(typingctx, rows, cols):
+    """A C-contiguous ``(rows, cols)`` float64 array on the caller's stack (literal sizes).
+
+    Scratch without a heap allocation (nor reference counting: no meminfo), for
+    functions compiled with ``_nrt=False``; valid until the caller returns.
+    """
+    if not (isinstance(rows, types.IntegerLiteral) and isinstance(cols, types.IntegerLiteral)):
+        return None
+    nr = rows.literal_value
+    nc = cols.literal_value
+    arrty = types.Array(types.float64, 2, "C")
+
+    def codegen(context, builder, signature, args):
+        data = cgutils.alloca_once(builder, ir.ArrayType(ir.DoubleType(), nr * nc))
+        data.align = 64
+        ary = context.make_array(arrty)(context, builder)
+        intp = context.get_value_type(types.intp)
+        populate_array(
+            ary,
+            data=builder.bitcast(data, ary.data.type),
+            shape=[ir.Constant(intp, nr), ir.Constant(intp, nc)],
+            strides=[ir.Constant(intp, 8 * nc), ir.Constant(intp, 8)],
+            itemsize=ir.Constant(intp, 8),
+            meminfo=None,
+        )
+        return ary._getvalue()
+
+    return arrty(rows, cols), codegen
+
+
+# rows of the rational stage's scratch block (on the stack, see _stack_block; indexed
+# [row, k]: row views would each cost an atomic reference-count update)
+_R_SG = 0  # chart: 1 for (q, 1), -1 for (1, q)
+_R_Q = 1  # q (re, im)
+_R_P = 3  # P(s) (re, im), then P'(s)
+_R_Q2 = 7  # Q(s), then Q'(s)
+_R_S = 11  # s = q^g (g > 1; for g = 1, s is q itself)
+_RB = 64  # points a block
+
+
+@njit(**_H)
+def _rational_plan(p):
+    """How :func:`_stage_rational` evaluates ``N`` and ``D``: a symmetric map in ``s = q^g``.
+
+    A map with ``N(q) = q^a P(q^g)`` and ``D(q) = q^b Q(q^g)``, ``a + b = 1``, in
+    both charts (Lattès maps: ``g = 2`` for the square lattice, 3 for the
+    hexagonal one) is evaluated with ``P`` and ``Q``, ``g`` times fewer Horner
+    steps. Any other map has the plan ``g = 1``, ``P = N``, ``Q = D``, ``a = b = 0``.
+
+    Returns ``(g, K, jn0, jn1, jd0, jd1, padn, padd, au, bu, al, bl)``: ``K`` the
+    degree of ``P`` and ``Q`` (the lower padded with ``padn``/``padd`` leading
+    zeros); the non-zero coefficients of ``N`` are at ``jn0, jn0 + g, ..., jn1``
+    in its list (highest degree first), those of ``D`` at ``jd0 .. jd1``;
+    ``(a, b)`` is ``(au, bu)`` in the chart ``(q, 1)`` and ``(al, bl)`` in ``(1, q)``.
+    Costs a few dozen integer operations (once per call, i.e. per chunk).
     """
     d = int(p[0])
     on = 1
     od = 1 + 2 * (d + 1)
-    buf = np.empty((11, n))
-    sgn = buf[0]
-    qre = buf[1]
-    qim = buf[2]
-    vnr = buf[3]
-    vni = buf[4]
-    wnr = buf[5]  # derivatives
-    wni = buf[6]
-    vdr = buf[7]
-    vdi = buf[8]
-    wdr = buf[9]
-    wdi = buf[10]
-    an0r = p[on]
-    an0i = p[on + 1]
-    bn0r = p[on + 2 * d]
-    bn0i = p[on + 2 * d + 1]
-    ad0r = p[od]
-    ad0i = p[od + 1]
-    bd0r = p[od + 2 * d]
-    bd0i = p[od + 2 * d + 1]
-    for k in range(n):
-        t = T[k]
-        sg, qr, qi = _affine(t, X[k], Y[k], Z[k])
-        G[k] = G[k] / t
-        sgn[k] = sg
-        qre[k] = qr
-        qim[k] = qi
-        up = sg > 0.0
-        vnr[k] = an0r if up else bn0r
-        vni[k] = an0i if up else bn0i
-        vdr[k] = ad0r if up else bd0r
-        vdi[k] = ad0i if up else bd0i
-        wnr[k] = 0.0
-        wni[k] = 0.0
-        wdr[k] = 0.0
-        wdi[k] = 0.0
-    for j in range(1, d + 1):
-        anr = p[on + 2 * j]
-        ani = p[on + 2 * j + 1]
-        bnr = p[on + 2 * (d - j)]
-        bni = p[on + 2 * (d - j) + 1]
-        adr = p[od + 2 * j]
-        adi = p[od + 2 * j + 1]
-        bdr = p[od + 2 * (d - j)]
-        bdi = p[od + 2 * (d - j) + 1]
-        for k in range(n):
-            up = sgn[k] > 0.0
-            tr = qre[k]
-            ti = qim[k]
-            vr = vnr[k]
-            vi = vni[k]
-            dr = wnr[k]
-            di = wni[k]
-            wnr[k] = dr * tr - di * ti + vr
-            wni[k] = dr * ti + di * tr + vi
-            vnr[k] = vr * tr - vi * ti + (anr if up else bnr)
-            vni[k] = vr * ti + vi * tr + (ani if up else bni)
-            vr = vdr[k]
-            vi = vdi[k]
-            dr = wdr[k]
-            di = wdi[k]
-            wdr[k] = dr * tr - di * ti + vr
-            wdi[k] = dr * ti + di * tr + vi
-            vdr[k] = vr * tr - vi * ti + (adr if up else bdr)
-            vdi[k] = vr * ti + vi * tr + (adi if up else bdi)
-    for k in range(n):
-        nr = vnr[k]
-        ni = vni[k]
-        dr = vdr[k]
-        di = vdi[k]
-        dnr = wnr[k]
-        dni = wni[k]
-        ddr = wdr[k]
-        ddi = wdi[k]
+    generic = (1, d, 0, d, 0, d, 0, 0, 0, 0, 0, 0)
+    if d > 62:
+        return generic
+    # bit j: coefficient j (highest degree first) is non-zero
+    mn = 0
+    md = 0
+    for j in range(d + 1):
+        mn |= (1 << j) if (p[on + 2 * j] != 0.0) or (p[on + 2 * j + 1] != 0.0) else 0
+        md |= (1 << j) if (p[od + 2 * j] != 0.0) or (p[od + 2 * j + 1] != 0.0) else 0
+    if mn == 0 or md == 0:
+        return generic
+    jn0 = 0
+    while not (mn >> jn0) & 1:
+        jn0 += 1
+    jd0 = 0
+    while not (md >> jd0) & 1:
+        jd0 += 1
+    jn1 = d
+    while not (mn >> jn1) & 1:
+        jn1 -= 1
+    jd1 = d
+    while not (md >> jd1) & 1:
+        jd1 -= 1
+    # lowest powers of q: d - (last index) in the chart (q, 1), the first index in (1, q)
+    au = d - jn1
+    bu = d - jd1
+    al = jn0
+    bl = jd0
+    if au + bu != 1 or al + bl != 1:
+        return generic
+    # the largest g whose multiples hold every index (counted from each list's first)
+    u = (mn >> jn0) | (md >> jd0)
+    g = d
+    while g > 1:
+        m = 0
+        for i in range(0, d + 1, g):
+            m |= 1 << i
+        if u & ~m == 0:
+            break
+        g -= 1
+    if g < 2:
+        return generic
+    kn = (jn1 - jn0) // g
+    kd = (jd1 - jd0) // g
+    kk = max(kn, kd)
+    return g, kk, jn0, jn1, jd0, jd1, kk - kn, kk - kd, au, bu, al, bl
+
+
+@njit(inline="always", **_H)
+def _coef(p, base, j, pad, i0, step):
+    """``(re, im)`` of coefficient ``j`` (highest degree first, after ``pad`` leading
+    zeros) of a polynomial in ``s`` whose coefficients sit at list indices ``i0, i0 +
+    step, ...`` of the complex list at ``p[base:]``."""
+    z = j < pad
+    i = base + 2 * (i0 + step * (0 if z else j - pad))  # in bounds for the padding too
+    return (0.0 if z else p[i]), (0.0 if z else p[i + 1])
+
+
+@njit(inline="always", **_H)
+def _rational_block(p, plan, T, X, Y, Z, G, m, buf):
+    """The first ``m <= buf.shape[1]`` points of :func:`_stage_rational`."""
+    on = 1
+    od = 1 + 2 * (int(p[0]) + 1)
+    g, kk, jn0, jn1, jd0, jd1, pn, pd, au, bu, al, bl = plan
+    rs = _R_S if g > 1 else _R_Q
+    for k in range(m):
+        sg, qr, qi = _affine(T[k], X[k], Y[k], Z[k])
+        buf[_R_SG, k] = sg
+        buf[_R_Q, k] = qr
+        buf[_R_Q + 1, k] = qi
+    if g > 1:
+        for k in range(m):
+            buf[_R_S, k] = buf[_R_Q, k]
+            buf[_R_S + 1, k] = buf[_R_Q + 1, k]
+        for _ in range(g - 1):
+            for k in range(m):
+                qr = buf[_R_Q, k]
+                qi = buf[_R_Q + 1, k]
+                sr = buf[_R_S, k]
+                si = buf[_R_S + 1, k]
+                buf[_R_S, k] = sr * qr - si * qi
+                buf[_R_S + 1, k] = sr * qi + si * qr
+    # Horner in s, the derivatives alongside. Leading coefficients (chart (q, 1): a*;
+    # (1, q): b*, the lists read backwards); step 0 is folded into step 1.
+    an0r, an0i = _coef(p, on, 0, pn, jn0, g)
+    bn0r, bn0i = _coef(p, on, 0, pn, jn1, -g)
+    ad0r, ad0i = _coef(p, od, 0, pd, jd0, g)
+    bd0r, bd0i = _coef(p, od, 0, pd, jd1, -g)
+    if kk == 0:
+        for k in range(m):
+            up = buf[_R_SG, k] > 0.0
+            buf[_R_P, k] = an0r if up else bn0r
+            buf[_R_P + 1, k] = an0i if up else bn0i
+            buf[_R_P + 2, k] = 0.0
+            buf[_R_P + 3, k] = 0.0
+            buf[_R_Q2, k] = ad0r if up else bd0r
+            buf[_R_Q2 + 1, k] = ad0i if up else bd0i
+            buf[_R_Q2 + 2, k] = 0.0
+            buf[_R_Q2 + 3, k] = 0.0
+    for j in range(1, kk + 1):
+        anr, ani = _coef(p, on, j, pn, jn0, g)
+        bnr, bni = _coef(p, on, j, pn, jn1, -g)
+        adr, adi = _coef(p, od, j, pd, jd0, g)
+        bdr, bdi = _coef(p, od, j, pd, jd1, -g)
+        if j == 1:
+            # from the leading coefficients: P = c0 s + c1, P' = c0
+            for k in range(m):
+                up = buf[_R_SG, k] > 0.0
+                tr = buf[rs, k]
+                ti = buf[rs + 1, k]
+                vr = an0r if up else bn0r
+                vi = an0i if up else bn0i
+                buf[_R_P, k] = (anr if up else bnr) + vr * tr - vi * ti
+                buf[_R_P + 1, k] = (ani if up else bni) + vr * ti + vi * tr
+                buf[_R_P + 2, k] = vr
+                buf[_R_P + 3, k] = vi
+                vr = ad0r if up else bd0r
+                vi = ad0i if up else bd0i
+                buf[_R_Q2, k] = (adr if up else bdr) + vr * tr - vi * ti
+                buf[_R_Q2 + 1, k] = (adi if up else bdi) + vr * ti + vi * tr
+                buf[_R_Q2 + 2, k] = vr
+                buf[_R_Q2 + 3, k] = vi
+            continue
+        # complex multiply-adds written c + a b - a' b': two FMAs a part (no reassociation)
+        for k in range(m):
+            up = buf[_R_SG, k] > 0.0
+            tr = buf[rs, k]
+            ti = buf[rs + 1, k]
+            vr = buf[_R_P, k]
+            vi = buf[_R_P + 1, k]
+            dr = buf[_R_P + 2, k]
+            di = buf[_R_P + 3, k]
+            buf[_R_P, k] = (anr if up else bnr) + vr * tr - vi * ti
+            buf[_R_P + 1, k] = (ani if up else bni) + vr * ti + vi * tr
+            buf[_R_P + 2, k] = vr + dr * tr - di * ti
+            buf[_R_P + 3, k] = vi + dr * ti + di * tr
+            vr = buf[_R_Q2, k]
+            vi = buf[_R_Q2 + 1, k]
+            dr = buf[_R_Q2 + 2, k]
+            di = buf[_R_Q2 + 3, k]
+            buf[_R_Q2, k] = (adr if up else bdr) + vr * tr - vi * ti
+            buf[_R_Q2 + 1, k] = (adi if up else bdi) + vr * ti + vi * tr
+            buf[_R_Q2 + 2, k] = vr + dr * tr - di * ti
+            buf[_R_Q2 + 3, k] = vi + dr * ti + di * tr
+    gf = float(g)
+    lac = g > 1
+    for k in range(m):
+        up = buf[_R_SG, k] > 0.0
+        a = au if up else al
+        b = bu if up else bl
+        qr = buf[_R_Q, k]
+        qi = buf[_R_Q + 1, k]
+        pr = buf[_R_P, k]
+        pi = buf[_R_P + 1, k]
+        dpr = buf[_R_P + 2, k]
+        dpi = buf[_R_P + 3, k]
+        cr = buf[_R_Q2, k]
+        ci = buf[_R_Q2 + 1, k]
+        dcr = buf[_R_Q2 + 2, k]
+        dci = buf[_R_Q2 + 3, k]
+        # N = q^a P, D = q^b Q (a, b in {0, 1})
+        nr = pr * qr - pi * qi if a > 0 else pr
+        ni = pr * qi + pi * qr if a > 0 else pi
+        dr = cr * qr - ci * qi if b > 0 else cr
+        di = cr * qi + ci * qr if b > 0 else ci
+        # N' D - N D' (for g = 1: a = b = 0, P' Q - P Q' itself); R = q^(a + b + g - 1) = s
+        wr = (dpr * cr - dpi * ci) - (pr * dcr - pi * dci)
+        wi = (dpr * ci + dpi * cr) - (pr * dci + pi * dcr)
+        rr = buf[_R_S, k] if lac else 1.0
+        ri = buf[_R_S + 1, k] if lac else 0.0
+        ab = float(a - b)
+        jr = ab * (pr * cr - pi * ci) + gf * (rr * wr - ri * wi)
+        ji = ab * (pr * ci + pi * cr) + gf * (rr * wi + ri * wr)
         a2 = nr * nr + ni * ni
         b2 = dr * dr + di * di
         tt = a2 + b2
         ok = tt > 0.0
-        inv = 1.0 / tt if ok else 0.0
-        jr = (dnr * dr - dni * di) - (nr * ddr - ni * ddi)
-        ji = (dnr * di + dni * dr) - (nr * ddi + ni * ddr)
-        r2 = qre[k] * qre[k] + qim[k] * qim[k]
-        s = math.sqrt(jr * jr + ji * ji) * (1.0 + r2) * inv
+        # one division for 1 / |N|^2 + |D|^2 and the running 1 / T
+        t = T[k]
+        rinv = 1.0 / (tt * t) if ok else 0.0
+        inv = rinv * t
+        r2 = qr * qr + qi * qi
         # N = D = 0 (a common root: undefined): the zenith, as normalize_cp1
-        G[k] = G[k] * s
+        G[k] = G[k] * (math.sqrt(jr * jr + ji * ji) * (1.0 + r2) * rinv)
         T[k] = 1.0
         X[k] = -2.0 * (nr * dr + ni * di) * inv  # -2 Re(N conj D)
         Y[k] = -2.0 * (ni * dr - nr * di) * inv  # -2 Im(N conj D)
         Z[k] = (b2 - a2) * inv if ok else 1.0
 
 
-@njit(**_H)
-def _stage_droste(p, T, X, Y, Z, G, valid, n):
-    """A straight or twisted Droste map in its own chart (0 and infinity the fixed points).
+@njit(_nrt=False, **_V)
+def _stage_rational(p, T, X, Y, Z, G, valid, n):
+    """``(z, w) -> (N(z, w), D(z, w))``, homogeneous Horner in the affine coordinate ``q``.
 
-    ``p = [m, ell, Re beta, Im beta, L0, Re C, Im C, cap, |beta|, rho_0 .. rho_(m-1)]``:
-    ``L = log zeta``, ``Ls = beta (L - L0) + C``, then ``Ls`` is reduced into the
-    strip ``rho(theta) <= Re < rho(theta) + ell``, ``|Im| <= pi`` (``rho`` the
-    periodic linear interpolation of the ``m`` samples at ``theta = -pi + 2 pi
-    j / m``) and the point is ``exp(Ls)``. Magnification ``|beta| |zeta_s| (1 +
-    |zeta|^2) / (|zeta| (1 + |zeta_s|^2))``, ``cap`` at the fixed points.
+    ``p[0] = d``, then the ``d + 1`` coefficients of ``N`` and of ``D`` (highest
+    degree first, zero-padded to degree ``d``) as ``(re, im)`` pairs. For
+    ``(1, q)`` the coefficient lists are read backwards. Magnification
+    ``|N' D - N D'| (1 + |q|^2) / (|N|^2 + |D|^2)``.
+
+    ``N = q^a P(s)``, ``D = q^b Q(s)`` with ``s = q^g`` (see
+    :func:`_rational_plan`; ``g = 1`` for a general map) and ``N' D - N D' = (a -
+    b) P Q + g q^(a + b + g - 1) (P' Q - P Q')``. The Horner steps (``P``,
+    ``Q`` and their derivatives) run over all points at once, coefficients
+    picked per point by a select, so that each step is a vectorisable loop; the
+    state lives in a scratch block on the stack, ``_RB`` points at a time.
+    """
+    plan = _rational_plan(p)
+    buf = _stack_block(13, _RB)
+    for k0 in range(0, n, _RB):
+        # slices, not offset indices (T[k0 + k]): those would keep numba's negative-index
+        # wrap-around, which stops LLVM from vectorising (no reference counting here)
+        k1 = min(k0 + _RB, n)
+        _rational_block(p, plan, T[k0:k1], X[k0:k1], Y[k0:k1], Z[k0:k1], G[k0:k1], k1 - k0, buf)
+
+
+@njit(inline="always", **_H)
+def _atan01(a):
+    """``atan(a)`` for ``0 <= a <= 1`` (the polynomial of :func:`atan2_poly`), branch-free."""
+    s = a * a
+    p = _A18
+    p = p * s + _A17
+    p = p * s + _A16
+    p = p * s + _A15
+    p = p * s + _A14
+    p = p * s + _A13
+    p = p * s + _A12
+    p = p * s + _A11
+    p = p * s + _A10
+    p = p * s + _A9
+    p = p * s + _A8
+    p = p * s + _A7
+    p = p * s + _A6
+    p = p * s + _A5
+    p = p * s + _A4
+    p = p * s + _A3
+    p = p * s + _A2
+    p = p * s + _A1
+    p = p * s + _A0
+    return p * a
+
+
+@njit(inline="always", **_H)
+def _atan2_ratio(a, y, x):
+    """``atan2(y, x)`` from ``a = min(|x|, |y|) / max(|x|, |y|)`` (0 if both are 0)."""
+    r = _atan01(a)
+    r = HALF_PI - r if abs(y) > abs(x) else r
+    r = PI - r if x < 0.0 else r
+    return -r if y < 0.0 else r
+
+
+@njit(inline="always", **_H)
+def _droste_block(p, T, X, Y, Z, G, n, buf):
+    """The first ``n <= buf.shape[1]`` points of :func:`_stage_droste`.
+
+    Two branch-free loops, vectorised (``._fastmath`` instead of libm, selects
+    instead of branches), and between them a scalar one that reads the rho
+    samples (vector gathers are slow on some machines; skipped when all the
+    samples are equal, a round hole). The first loop leaves ``(Re Ls, theta_s,
+    rho table position, 2 |beta| T (inf at the fixed points), rxy (T there),
+    T)`` in ``buf``; the last finishes with one division a point.
     """
     m = int(p[0])
     ell = p[1]
@@ -423,53 +692,113 @@ def _stage_droste(p, T, X, Y, Z, G, valid, n):
     cap = p[7]
     ab = p[8]
     tiny = 1e-300
+    mf = float(m)
+    inv_ell = 1.0 / ell
+    rho0 = p[9]
+    round_hole = True
+    for j in range(1, m):
+        round_hole &= p[9 + j] == rho0
     for k in range(n):
         t = T[k]
         x = X[k]
         y = Y[k]
         z = Z[k]
-        rho2 = x * x + y * y
-        r = math.sqrt(rho2 + z * z)
-        rxy = math.sqrt(rho2)
-        # |zeta| = |a| / |b| = sqrt((r - z) / (r + z)), each side without cancellation
-        # |a| / |b| = sqrt((r - z) / (r + z)) (unit pair: |a|^2 = (r - z) / 2r), each side
-        # without cancellation; clamped at 1e-300 as the reference
-        big = math.sqrt(0.5 * (r + abs(z)) / r)
-        small = rxy / (2.0 * r * big)
-        la = max(small if z >= 0.0 else big, tiny)
-        lb = max(big if z >= 0.0 else small, tiny)
-        u = math.log(la / lb)
-        th = atan2_poly(-y, -x)  # arg(a conj b), a conj b = -(x + i y) / 2
+        rxy = math.sqrt(x * x + y * y)
+        # |zeta| = |a| / |b| = sqrt((R - z) / (R + z)) (unit pair: |a|^2 = (R - z) / 2R)
+        # is rxy / (R + |z|) <= 1 or its inverse (no cancellation; T for R = |(x, y, z)|
+        # as in _stage_exp), and theta = arg(a conj b) = atan2(-y, -x) needs min / max of
+        # |x|, |y|: one division for both ratios. max is clamped at 1e-300, so that the
+        # product does not underflow (the angle is then wrong, but only within 1e-300 of
+        # a fixed point, where it has no limit)
+        ax = abs(x)
+        ay = abs(y)
+        mx = max(max(ax, ay), tiny)
+        rz = t + abs(z)
+        dd = 1.0 / (rz * mx)
+        # clamped at 1e-300 (the fixed points) as the reference
+        lq = flog(max(rxy * mx * dd, tiny))
+        u = lq if z >= 0.0 else -lq
+        th = _atan2_ratio(min(ax, ay) * rz * dd, -y, -x)
         ur = u - l0
-        lr = br * ur - bi * th + cr
         li = br * th + bi * ur + ci
         # theta into [-pi, pi) (floor, not fmod: cheaper, same to rounding)
-        ths = li - TWO_PI * math.floor((li + PI) * INV_TWO_PI)
-        xi = (ths + PI) * (m * INV_TWO_PI)
-        i0 = min(max(int(math.floor(xi)), 0), m - 1)
-        f = xi - i0
-        i1 = i0 + 1 if i0 + 1 < m else 0
-        rho = p[9 + i0] * (1.0 - f) + p[9 + i1] * f
-        kk = math.floor((lr - rho) / ell)
-        us = lr - kk * ell
+        ths = li - TWO_PI * np.floor((li + PI) * INV_TWO_PI)
+        buf[0, k] = br * ur - bi * th + cr
+        buf[1, k] = ths
+        buf[2, k] = rho0 if round_hole else (ths + PI) * (mf * INV_TWO_PI)
+        # the magnification |beta| (e / (1 + e^2)) 2R / rxy: cap at the fixed points
+        # (rxy / 2R <= 1e-150), marked by an infinite numerator
+        fixed = not (rxy > 2e-150 * t)
+        buf[3, k] = math.inf if fixed else 2.0 * ab * t
+        buf[4, k] = t if fixed else rxy
+        buf[5, k] = t
+    if not round_hole:
+        for k in range(n):
+            xi = buf[2, k]
+            i0f = min(max(np.floor(xi), 0.0), mf - 1.0)
+            f = xi - i0f
+            i0 = int(i0f)
+            i1 = i0 + 1 if i0 + 1 < m else 0
+            buf[2, k] = p[9 + i0] * (1.0 - f) + p[9 + i1] * f
+    for k in range(n):
+        lr = buf[0, k]
+        ths = buf[1, k]
+        rho = buf[2, k]
+        # rounding can leave us a hair outside the strip: clamped (reciprocal of ell:
+        # the same to rounding)
+        us = lr - np.floor((lr - rho) * inv_ell) * ell
         us = min(max(us, rho), rho + ell)
-        e = math.exp(-abs(us))
-        c = math.cos(ths)
-        sn = math.sin(ths)
-        den = rxy / (2.0 * r)
-        if den > 1e-150:
-            sc = ab * (e / (1.0 + e * e)) / den
-            sc = min(sc, cap) if sc == sc else cap
-        else:
-            sc = cap
-        G[k] = G[k] / t * sc
-        sg = 1.0 if us <= 0.0 else -1.0  # (zeta_s, 1) or (1, 1 / zeta_s)
-        _put_pair(sg, e * c, sg * (e * sn), T, X, Y, Z, k)
+        e = fexp(-abs(us))
+        sn, c = fsincos(ths)
+        # one division: 1 / ((1 + e^2) t rxy) gives w = 1 / (1 + e^2) (the pair below
+        # has |q|^2 = e^2, |exp(i ths)| = 1 to rounding), the magnification over t, and
+        # the cap over t; the cap where the magnification is larger or NaN
+        e2 = e * e
+        rq = buf[4, k]
+        t = buf[5, k]
+        h = (1.0 + e2) * rq
+        inv = 1.0 / (h * t)
+        w = t * rq * inv
+        sct = e * buf[3, k] * inv
+        capt = cap * h * inv
+        G[k] = G[k] * (sct if sct < capt else capt)
+        # (zeta_s, 1) (us <= 0) or (1, 1 / zeta_s): _put_pair with that |q|^2
+        zs = (1.0 - e2) * w
+        T[k] = 1.0
+        X[k] = -2.0 * e * c * w
+        Y[k] = -2.0 * e * sn * w
+        Z[k] = zs if us <= 0.0 else -zs
 
 
-@njit(**_H)
+@njit(_nrt=False, **_V)
+def _stage_droste(p, T, X, Y, Z, G, valid, n):
+    """A straight or twisted Droste map in its own chart (0 and infinity the fixed points).
+
+    ``p = [m, ell, Re beta, Im beta, L0, Re C, Im C, cap, |beta|, rho_0 .. rho_(m-1)]``:
+    ``L = log zeta``, ``Ls = beta (L - L0) + C``, then ``Ls`` is reduced into the
+    strip ``rho(theta) <= Re < rho(theta) + ell``, ``|Im| <= pi`` (``rho`` the
+    periodic linear interpolation of the ``m`` samples at ``theta = -pi + 2 pi
+    j / m``) and the point is ``exp(Ls)``. Magnification ``|beta| |zeta_s| (1 +
+    |zeta|^2) / (|zeta| (1 + |zeta_s|^2))``, ``cap`` at the fixed points.
+
+    ``_RB`` points at a time through a scratch block on the stack
+    (:func:`_droste_block`).
+    """
+    buf = _stack_block(6, _RB)
+    for k0 in range(0, n, _RB):
+        # slices, not offset indices (see _stage_rational)
+        k1 = min(k0 + _RB, n)
+        _droste_block(p, T[k0:k1], X[k0:k1], Y[k0:k1], Z[k0:k1], G[k0:k1], k1 - k0, buf)
+
+
+@njit(_nrt=False, **_H)
 def run_stages(codes, params, T, X, Y, Z, G, valid, n):
-    """Apply the stages of a map, in order, to the first ``n`` points."""
+    """Apply the stages of a map, in order, to the first ``n`` points.
+
+    Compiled without reference counting (``_nrt=False``: it allocates nothing): the
+    stages are inlined here, and numba's atomic reference-count updates of the
+    arrays passed to them cost about 50 ns a call, one call a chunk of 64 points.
+    """
     for s in range(codes.shape[0]):
         code = codes[s]
         if code == STAGE_LORENTZ:
@@ -485,7 +814,7 @@ def run_stages(codes, params, T, X, Y, Z, G, valid, n):
         # New kinds: elif code == STAGE_<NAME>: _stage_<name>(params[s], T, X, Y, Z, G, valid, n)
 
 
-@njit(**_H)
+@njit(**_V)
 def to_source(X, Y, Z, n, kx, ky, u, v):
     """Tap-space source coordinates ``u = x - 1/2``, ``v = y - 1/2`` of the points."""
     for k in range(n):
