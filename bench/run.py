@@ -377,7 +377,7 @@ def bench_antialias(threads: int, ref_n: int) -> None:
         zw = coords.cp1_from_lonlat(coords.lonlat_from_pixel(px, w, h))
         shrink = np.nan_to_num(m.local_scale(zw), nan=1e6, posinf=1e6) > 1.0 + 1e-6
         res = {}
-        for label, aa in (("none", "none"), ("auto", "auto"), ("uniform 4x4", 4)):
+        for label, aa in (("none", "none"), ("auto", "auto"), ("area", "area"), ("uniform 4x4", 4)):
             tm = measure(lambda aa=aa: warp(img, m, antialias=aa, threads=threads), 3)
             out = warp(img, m, antialias=aa, threads=threads)
             res[label] = (psnr(out, ref), psnr(out, ref, shrink) if shrink.any() else None, tm)
@@ -536,6 +536,13 @@ def summary() -> list[str]:
                 f"4x4 {u['psnr_db']:.2f} dB (target auto >= 4x4 - 0.5); "
                 f"time auto / 4x4 = {a['time_vs_uniform4']:.2f} (target <= 0.25)"
             )
+            if "area" in res:
+                ar = res["area"]
+                lines.append(
+                    f"AA {name}: area {ar['psnr_db']:.2f} dB (4x4 - 0.5 = "
+                    f"{u['psnr_db'] - 0.5:.2f}), time area / 4x4 = {ar['time_vs_uniform4']:.2f}, "
+                    f"area / none = {ar['time_vs_none']:.1f}"
+                )
     for size in sorted({r["size"] for r in ROWS if r["group"] == "cli"}):
         s = get("cli", "spherewarp rotate", size, None)
         f = get("cli", "ffmpeg -vf v360", size, None)

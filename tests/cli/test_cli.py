@@ -118,6 +118,16 @@ def test_overwrite_replaces(capsys, pattern_png):
     assert Path("out.png").read_bytes() != first
 
 
+@pytest.mark.parametrize("mode", ["auto", "area", "none", "3"])
+def test_antialias_modes(capsys, pattern_png, mode):
+    ok(capsys, "zoom", pattern_png, "--at", "20,10", "--factor", 3, "-o", "out.png",
+       "--antialias", mode)  # fmt: skip
+    src = read_image(pattern_png).pixels
+    aa = int(mode) if mode.isdigit() else mode
+    expected = warp(src, Mobius.zoom((20.0, 10.0), 3.0).inverse(), antialias=aa)
+    np.testing.assert_array_equal(read_image("out.png").pixels, expected)
+
+
 @pytest.mark.parametrize("interp", ["nearest", "bilinear", "bicubic", "BICUBIC"])
 def test_interp_supersample_and_size(capsys, pattern_png, interp):
     ok(

@@ -160,3 +160,62 @@ def test_jump_mask_finds_a_jump_in_a_column():
     assert m.shape == (3, 16)
     assert m[1, 5] and m[2, 5] and m[2, 4] and m[2, 6]
     assert not m[0].any()
+
+
+# -- antialias="area" --------------------------------------------------------------------------
+needs_jit = pytest.mark.skipif(
+    not __import__("spherewarp.render.fast", fromlist=["available"]).available(),
+    reason="numba is not installed",
+)
+
+
+def _psnr(a: np.ndarray, ref: np.ndarray) -> float:
+    mse = np.mean((a.astype(np.float64) - ref.astype(np.float64)) ** 2)
+    return float(10 * np.log10(255.0**2 / mse))
+
+
+@needs_jit
+def test_area_of_the_identity_is_the_one_pixel_box():
+    """Through the identity every footprint is one input pixel square, so the area
+    filter is the bilinear surface averaged over one pixel: ``[1/8, 3/4, 1/8]`` on
+    each axis, wrapping round the seam and folding over the poles."""
+    rng = np.random.default_rng(4)
+    img = rng.uniform(0, 1, (32, 64, 3)).astype(np.float32)
+    got = warp(img, Mobius.identity(), antialias="area")
+    k = (0.125, 0.75, 0.125)
+    rows = np.concatenate([np.roll(img[:1], 32, axis=1), img, np.roll(img[-1:], 32, axis=1)])
+    ver = k[0] * rows[:-2] + k[1] * rows[1:-1] + k[2] * rows[2:]
+    want = k[0] * np.roll(ver, 1, axis=1) + k[1] * ver + k[2] * np.roll(ver, -1, axis=1)
+    np.testing.assert_allclose(got, want, atol=2e-6)
+
+
+@needs_jit
+@pytest.mark.parametrize(
+    "m", [Mobius.zoom((20.0, 10.0), 4.0).inverse(), Mobius.from_yaw_pitch_roll(30, 20, 10)]
+)
+def test_area_matches_heavy_supersampling(m):
+    """Against 12 x 12 supersampling of a photograph, the area filter does as well as
+    4 x 4 (to 0.5 dB) and far better than one bilinear tap."""
+    from spherewarp.demo import sample_path
+    from spherewarp.io import read_image
+
+    img = np.ascontiguousarray(read_image(sample_path()).pixels[::4, ::4])  # 128 x 256
+    ref = warp(img, m, antialias=12)
+    area = _psnr(warp(img, m, antialias="area"), ref)
+    assert area >= _psnr(warp(img, m, antialias=4), ref) - 0.5
+    assert area >= _psnr(warp(img, m, antialias="none"), ref) + 10.0
+
+
+def test_area_falls_back_to_uniform_supersampling():
+    """Where the area filter is not compiled (a map without kernel stages, nearest
+    sampling) ``"area"`` is uniform 4 x 4."""
+    from spherewarp.maps import ExpressionMap
+
+    img = _stripes(32, 64)
+    m = ExpressionMap("z**2")
+    np.testing.assert_array_equal(warp(img, m, antialias="area"), warp(img, m, antialias=4))
+    r = Mobius.rotation((0.0, 0.0), 30)
+    np.testing.assert_array_equal(
+        warp(img, r, antialias="area", interp="nearest"),
+        warp(img, r, antialias=4, interp="nearest"),
+    )

@@ -66,7 +66,7 @@ KINDS = {
 
 
 def _spec(m):
-    """The compiled stages, those of :data:`fast.OPT_IN_KINDS` included."""
+    """The compiled stages (those of :data:`fast.OPT_IN_KINDS` included, if any)."""
     return fast.kernel_spec(m, opt_in="all")
 
 
@@ -204,17 +204,38 @@ def test_bad_stage_parameters_are_refused():
 
 
 @needs_jit
-def test_opt_in_kinds_compile_only_on_request():
-    """Droste and exp (jumps: adaptive AA) are opt-in (see fast.OPT_IN_KINDS); power is not."""
-    assert fast.kernel_spec(MAPS["droste"]) is None
-    assert fast.kernel_spec(MAPS["twisted"] @ Mobius.rotation((0, 0), 10)) is None
-    assert fast.kernel_spec(MAPS["exp4"]) is None
-    assert fast.kernel_spec(MAPS["exp4"], opt_in={"exp"}) is not None
-    assert fast.kernel_spec(MAPS["power2"]) is not None
-    assert fast.kernel_spec(MAPS["exp4_charted"], opt_in={"power"}) is None
-    assert _spec(MAPS["twisted"]) is not None
-    assert fast.kernel_spec(MAPS["lattes_2_1j"]) is not None
-    assert fast.kernel_spec(MAPS["rational"]) is not None
+def test_every_kind_compiles_by_default():
+    """Droste and exp maps (jumps) are compiled by default: the kernel finds their jumps."""
+    assert not fast.OPT_IN_KINDS
+    for name in ("droste", "exp4", "power2", "lattes_2_1j", "rational"):
+        assert fast.kernel_spec(MAPS[name]) is not None, name
+    assert fast.kernel_spec(MAPS["twisted"] @ Mobius.rotation((0, 0), 10)) is not None
+
+
+def _auto_numpy_geometry(img, m, shape):
+    """``antialias="auto"`` through the NumPy-geometry path (``antialias.jump_mask``)."""
+    import importlib
+
+    w = importlib.import_module("spherewarp.render.warp")
+    out = np.empty((*shape, img.shape[2]), img.dtype)
+    w._warp_by_samples([img], m, out, "bilinear", ("auto", 0), np.zeros(3, np.float32), "fast", 1)
+    return out
+
+
+@needs_jit
+@pytest.mark.parametrize("name", ["droste", "twisted_2_strands", "exp4"])
+def test_compiled_jumps_match_numpy_jump_mask(name):
+    """The compiled renderer's jump detection picks the pixels ``antialias.jump_mask`` picks:
+    the two ``auto`` renders agree, and differ from the render without anti-aliasing."""
+    rng = np.random.default_rng(11)
+    img = rng.integers(0, 256, (64, 128, 3), dtype=np.uint8)  # all detail: seams show
+    m = MAPS[name]
+    got = warp(img, m, output_shape=OUT_SHAPE, threads=2).astype(float)
+    ref = _auto_numpy_geometry(img, m, OUT_SHAPE).astype(float)
+    plain = warp(img, m, output_shape=OUT_SHAPE, antialias="none").astype(float)
+    err = np.abs(got - ref).max(-1)
+    assert np.mean(err > 3) < 0.002, np.mean(err > 3)
+    assert np.mean(np.abs(plain - ref).max(-1) > 3) > 10 * max(np.mean(err > 3), 1e-3)
 
 
 @needs_jit

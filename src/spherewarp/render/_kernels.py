@@ -878,20 +878,111 @@ def _counts(T, G, valid, n, cl, aa_kx, aa_ky, tol, cap, uniform, nx, ny, special
             b = uniform
         else:
             s = G[k] / T[k]
-            fa = math.ceil(s * aa_kx * cl - tol)
-            fb = math.ceil(s * aa_ky - tol)
-            a = int(min(max(fa, 1.0), cap))
-            b = int(min(max(fb, 1.0), cap))
-        nx[k] = a
-        ny[k] = b
-        sp = (a * b > 1) or (valid[k] == 0)
-        special[k] = sp
-        nsp += sp
+            a = math.ceil(s * aa_kx * cl - tol)
+            b = math.ceil(s * aa_ky - tol)
+        nsp += _set_count(a, b, cap, valid[k], nx, ny, special, k)
     return nsp
 
 
-# -- sampling, any dtype (float32 arithmetic, as spherewarp.render.sampling) -----------------------
+@njit(inline="always", **_H)
+def _set_count(fa, fb, cap, ok, nx, ny, special, k):
+    """``nx[k] x ny[k]`` samples (``fa x fb`` clamped to ``1..cap``); returns whether the
+    pixel is special (several samples, or undefined)."""
+    a = int(min(max(fa, 1), cap))
+    b = int(min(max(fb, 1), cap))
+    nx[k] = a
+    ny[k] = b
+    sp = (a * b > 1) or (ok == 0)
+    special[k] = sp
+    return sp
+
+
+# -- jumps (maps with seams: Droste, the exp variant's spiral) -------------------------------------
 @njit(**_H)
+def _geom_row(i, ho, jc, js, n, codes, params, T, G, geo, vals, slot):
+    """Pull back the ``n`` pixel centres of output row ``i`` (columns' trig tables ``jc``,
+    ``js``) into slot ``slot``: unit source vectors ``geo[slot, 0:3]``, magnification
+    ``geo[slot, 3]``, validity ``vals[slot]`` (``T``, ``G``: scratch)."""
+    X = geo[slot, 0]
+    Y = geo[slot, 1]
+    Z = geo[slot, 2]
+    S = geo[slot, 3]
+    valid = vals[slot]
+    lat = HALF_PI - PI * (i + 0.5) / ho
+    cl = math.cos(lat)
+    sl = math.sin(lat)
+    _directions(cl, sl, jc, js, n, T, X, Y, Z, G, valid)
+    run_stages(codes, params, T, X, Y, Z, G, valid, n)
+    for k in range(n):
+        t = T[k]
+        X[k] = X[k] / t
+        Y[k] = Y[k] / t
+        Z[k] = Z[k] / t
+        S[k] = G[k] / t
+
+
+@njit(inline="always", **_H)
+def _is_jump(xa, ya, za, sa, va, xb, yb, zb, sb, vb, step, rho):
+    """Whether neighbouring source points are further apart than the magnification allows
+    (as :func:`spherewarp.render.antialias.jump_mask`)."""
+    dx = xa - xb
+    dy = ya - yb
+    dz = za - zb
+    d = math.sqrt(dx * dx + dy * dy + dz * dz)
+    allow = 2.0 * max(sa, sb) * step + 2.0 * rho
+    return (va != 0) and (vb != 0) and d > allow
+
+
+@njit(**_H)
+def _jump_flags(geo, vals, above, cur, below, has_above, has_below, w, cl, wo, ho, rho,
+                jmin, nx, ny, special, area, J):  # fmt: skip
+    """Give the pixels of the current row that sit on a jump ``jmin x jmin`` samples at
+    least; returns how many pixels became special.
+
+    ``geo[slot]`` holds ``(X, Y, Z, S)`` rows of ``w + 2`` columns (one either side of the
+    chunk) and ``vals[slot]`` their validity, for the rows above, current and below.
+    With ``area``, the footprint ``J`` of a pixel on a jump (meaningless there) is
+    cleared: its samples are plain bilinear taps.
+    """
+    hstep = TWO_PI / wo * cl
+    vstep = PI / ho
+    gc = geo[cur]
+    vc = vals[cur]
+    ga = geo[above]
+    va = vals[above]
+    gb = geo[below]
+    vb = vals[below]
+    added = 0
+    for k in range(w):
+        j = k + 1
+        jump = _is_jump(gc[0, j], gc[1, j], gc[2, j], gc[3, j], vc[j],
+                        gc[0, j - 1], gc[1, j - 1], gc[2, j - 1], gc[3, j - 1], vc[j - 1],
+                        hstep, rho) or \
+            _is_jump(gc[0, j], gc[1, j], gc[2, j], gc[3, j], vc[j],
+                     gc[0, j + 1], gc[1, j + 1], gc[2, j + 1], gc[3, j + 1], vc[j + 1],
+                     hstep, rho)  # fmt: skip
+        if not jump and has_above:
+            jump = _is_jump(gc[0, j], gc[1, j], gc[2, j], gc[3, j], vc[j],
+                            ga[0, j], ga[1, j], ga[2, j], ga[3, j], va[j], vstep, rho)  # fmt: skip
+        if not jump and has_below:
+            jump = _is_jump(gc[0, j], gc[1, j], gc[2, j], gc[3, j], vc[j],
+                            gb[0, j], gb[1, j], gb[2, j], gb[3, j], vb[j], vstep, rho)  # fmt: skip
+        if jump:
+            if not special[k]:
+                added += 1
+            nx[k] = max(nx[k], jmin)
+            ny[k] = max(ny[k], jmin)
+            special[k] = 1
+            if area:
+                J[0, k] = 0.0
+                J[1, k] = 0.0
+                J[2, k] = 0.0
+                J[3, k] = 0.0
+    return added
+
+
+# -- sampling, any dtype (float32 arithmetic, as spherewarp.render.sampling) -----------------------
+@njit(inline="always", **_H)
 def _fold(iy, ix, h, w):
     if iy < 0:
         iy = -1 - iy
@@ -903,7 +994,7 @@ def _fold(iy, ix, h, w):
     return iy, ix % w
 
 
-@njit(**_H)
+@njit(inline="always", **_H)
 def _cubic(t):
     a = np.float32(-0.5)
     t2 = t * t
@@ -915,7 +1006,7 @@ def _cubic(t):
     return w0, w1, w2, w3
 
 
-@njit(**_H)
+@njit(inline="always", **_H)
 def _get(img, iy, ix, ch):
     """Pixel value of the image bundle ``img`` as float32 (see ``fast._image_bundle``)."""
     dt = img[4]
@@ -928,7 +1019,7 @@ def _get(img, iy, ix, ch):
     return np.float32(img[3][iy, ix, ch])
 
 
-@njit(**_H)
+@njit(inline="always", **_H)
 def _put(dst, i, r):
     """Store element ``i`` of the flat output bundle ``dst`` (``r`` already rounded)."""
     dt = dst[4]
@@ -942,7 +1033,7 @@ def _put(dst, i, r):
         dst[3][i] = r
 
 
-@njit(**_H)
+@njit(inline="always", **_H)
 def acc_sample(img, u, v, interp, acc, j):
     """``acc[j, :] += sample of the image at tap-space (u, v)`` (float32)."""
     h = img[5]
@@ -987,31 +1078,207 @@ def acc_sample(img, u, v, interp, acc, j):
             acc[j, ch] += wy * row
 
 
-@njit(**_H)
+@njit(inline="always", **_H)
 def finish_pixel(acc, j, cover, count, bg, dst, q, c, co, is_int, maxval, full):
     """Write pixel ``q`` of the flat output ``dst`` (``co`` values a pixel) from ``acc[j]``.
 
     ``count`` samples were taken, ``cover`` of them defined; the rest are
     background. With ``co == c + 1`` the last channel is the coverage (alpha).
+    The output's type is picked once (:func:`_finish_typed`): a dispatch per
+    value cost more than the rest of the pixel.
     """
+    dt = dst[4]
+    if dt == 0:
+        _finish_typed(acc, j, cover, count, bg, dst[0], q, c, co, is_int, maxval, full)
+    elif dt == 1:
+        _finish_typed(acc, j, cover, count, bg, dst[1], q, c, co, is_int, maxval, full)
+    elif dt == 2:
+        _finish_typed(acc, j, cover, count, bg, dst[2], q, c, co, is_int, maxval, full)
+    else:
+        _finish_typed(acc, j, cover, count, bg, dst[3], q, c, co, is_int, maxval, full)
+
+
+@njit(inline="always", **_H)
+def _finish_typed(acc, j, cover, count, bg, out, q, c, co, is_int, maxval, full):
     inv = np.float32(1.0) / np.float32(count)
     miss = np.float32(count - cover)
     for ch in range(c):
         r = (acc[j, ch] + miss * bg[ch]) * inv
         if is_int:
             r = min(max(np.rint(r), np.float32(0.0)), maxval)
-        _put(dst, q * co + ch, r)
+        out[q * co + ch] = r
     if co > c:
         r = np.float32(cover) * inv * full
         if is_int:
             r = min(max(np.rint(r), np.float32(0.0)), maxval)
-        _put(dst, q * co + c, r)
+        out[q * co + c] = r
+
+
+@njit(inline="always", **_H)
+def _tent_integral(s):
+    """``int_-inf^s tent``: the antiderivative of the bilinear (tent) kernel (branch-free)."""
+    s = min(max(s, -1.0), 1.0)
+    a = 1.0 - abs(s)
+    h2 = 0.5 * a * a
+    return 1.0 - h2 if s >= 0.0 else h2
+
+
+@njit(**_V)
+def _area_weights(U, V, BX, BY, n, WS, X0, Y0):
+    """Phase 1 of :func:`area_batch` (vectorised): the first tap ``X0, Y0`` and the
+    weights ``WS[0:4]`` (columns), ``WS[4:8]`` (rows) of each sample: the tent
+    averaged over a box of width ``b`` (at most 2 input pixels, so 4 taps a side)
+    at distances ``t .. t + 3``, ``(F(t + b/2) - F(t - b/2)) / b`` with ``F`` the
+    tent's antiderivative."""
+    for k in range(n):
+        u = U[k]
+        v = V[k]
+        bx = min(max(BX[k], 1e-3), 2.0)
+        by = min(max(BY[k], 1e-3), 2.0)
+        xf = math.floor(u) - 1.0
+        yf = math.floor(v) - 1.0
+        X0[k] = np.int64(xf)
+        Y0[k] = np.int64(yf)
+        tx = xf - u
+        ty = yf - v
+        hx = 0.5 * bx
+        hy = 0.5 * by
+        ix = 1.0 / bx
+        iy = 1.0 / by
+        for d in range(4):
+            WS[d, k] = (_tent_integral(tx + d + hx) - _tent_integral(tx + d - hx)) * ix
+            WS[4 + d, k] = (_tent_integral(ty + d + hy) - _tent_integral(ty + d - hy)) * iy
+
+
+@njit(**_H)
+def _area_apply(a, h, w, c, n, WS, X0, Y0, keep, own, acc, cover):
+    """Phase 2 of :func:`area_batch` on the typed image ``a``: the 4 x 4 taps of each
+    kept sample into ``acc[own[k]]``; taps fold over the poles and wrap as in
+    :func:`acc_sample`."""
+    half = w // 2
+    for k in range(n):
+        if not keep[k]:
+            continue
+        j = own[k]
+        x0 = X0[k]
+        y0 = Y0[k]
+        wx0 = WS[0, k]
+        wx1 = WS[1, k]
+        wx2 = WS[2, k]
+        wx3 = WS[3, k]
+        for dy in range(4):
+            wgy = WS[4 + dy, k]
+            if wgy == 0.0:
+                continue
+            iy = y0 + dy
+            sh = 0
+            if iy < 0:  # fold over the pole: row -1 - iy, half a turn round
+                iy = -1 - iy
+                sh = half
+            elif iy >= h:
+                iy = 2 * h - 1 - iy
+                sh = half
+            iy = min(max(iy, 0), h - 1)
+            ix0 = (x0 + sh) % w
+            ix1 = ix0 + 1 if ix0 + 1 < w else 0
+            ix2 = ix1 + 1 if ix1 + 1 < w else 0
+            ix3 = ix2 + 1 if ix2 + 1 < w else 0
+            w0 = wgy * wx0
+            w1 = wgy * wx1
+            w2 = wgy * wx2
+            w3 = wgy * wx3
+            for ch in range(c):
+                acc[j, ch] += (
+                    w0 * np.float32(a[iy, ix0, ch])
+                    + w1 * np.float32(a[iy, ix1, ch])
+                    + w2 * np.float32(a[iy, ix2, ch])
+                    + w3 * np.float32(a[iy, ix3, ch])
+                )
+        cover[j] += 1
+
+
+@njit(**_H)
+def area_batch(img, U, V, BX, BY, n, keep, own, acc, cover, WS, X0, Y0):
+    """Area taps of ``n`` samples: ``acc[own[k]] +=`` the bilinear image averaged over
+    the box ``BX[k] x BY[k]`` (input pixels, at most 2 each) centred on tap-space
+    ``(U[k], V[k])``, and ``cover[own[k]] += 1``, for the samples with ``keep[k]``.
+
+    The area filter of ``antialias="area"``: what supersampling a pixel converges
+    to where the map is smooth over it, as 4 x 4 taps of ``tent * box`` in closed
+    form. ``WS`` (float32, ``(8, >= n)``), ``X0``, ``Y0`` (int64) are scratch.
+    """
+    _area_weights(U, V, BX, BY, n, WS, X0, Y0)
+    h = img[5]
+    w = img[6]
+    c = img[7]
+    dt = img[4]
+    if dt == 0:
+        _area_apply(img[0], h, w, c, n, WS, X0, Y0, keep, own, acc, cover)
+    elif dt == 1:
+        _area_apply(img[1], h, w, c, n, WS, X0, Y0, keep, own, acc, cover)
+    elif dt == 2:
+        _area_apply(img[2], h, w, c, n, WS, X0, Y0, keep, own, acc, cover)
+    else:
+        _area_apply(img[3], h, w, c, n, WS, X0, Y0, keep, own, acc, cover)
+
+
+@njit(**_H)
+def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J):
+    """Footprints (``J``) and samples per pixel of ``antialias="area"``; returns the
+    number of special pixels.
+
+    The footprint of pixel ``k`` in the input's chart is the Jacobian ``J[:, k] =
+    (du/dx, du/dy, dv/dx, dv/dy)`` (input pixels per output pixel). Its first
+    column is a one-sided difference of the source coordinates along the row (the
+    shorter of the two, so that a jump next door does not count); the second
+    follows from it because the map is conformal: on the sphere the image of the
+    output's north step is the image of its east step turned by a right angle and
+    scaled by their ratio ``q`` (``cos(lat_src)`` converts between the chart and the
+    sphere). A pixel gets ``ceil(L / sqrt 2)`` samples along each of its axes (``L``
+    the length of that column of ``J``), so that each sample's box is at most two
+    input pixels wide: :func:`area_batch`'s limit. A chunk of one pixel has no
+    neighbour to difference with: it gets a plain bilinear tap.
+    """
+    q = wo / (2.0 * ho * cl)
+    half = 0.5 * wi
+    kv = PI / hi
+    for k in range(n):  # cos(lat) of the source points (vectorised), kept in J[3]
+        J[3, k] = fsincos(kv * (V[k] + 0.5))[0]
+    nsp = 0
+    for k in range(n):
+        du = 0.0
+        dv = 0.0
+        if n > 1:
+            kl = k - 1 if k > 0 else k + 1
+            kr = k + 1 if k + 1 < n else k - 1
+            dul = U[k] - U[kl]
+            dul -= wi * math.floor((dul + half) / wi)
+            dvl = V[k] - V[kl]
+            dur = U[kr] - U[k]
+            dur -= wi * math.floor((dur + half) / wi)
+            dvr = V[kr] - V[k]
+            left = dul * dul + dvl * dvl <= dur * dur + dvr * dvr
+            du = dul if left else dur
+            dv = dvl if left else dvr
+        cs = max(J[3, k], 1e-9)
+        j00 = du
+        j20 = dv
+        j01 = q * dv / cs
+        j21 = q * du * cs
+        J[0, k] = j00
+        J[1, k] = j01
+        J[2, k] = j20
+        J[3, k] = j21
+        fa = math.ceil(math.sqrt(j00 * j00 + j20 * j20) * 0.7071067811865476 - tol)
+        fb = math.ceil(math.sqrt(j01 * j01 + j21 * j21) * 0.7071067811865476 - tol)
+        nsp += _set_count(fa, fb, cap, valid[k], nx, ny, special, k)
+    return nsp
 
 
 @njit(**_H)
 def _subsamples(
     k0, n, special, nx, ny, cl, sl, cc, cs, tabs,
-    codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8,
+    codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8, area, J, ascr,
 ):  # fmt: skip
     """Supersample the special pixels of a chunk into ``acc``/``cover``.
 
@@ -1019,13 +1286,17 @@ def _subsamples(
     the tables ``tabs[0..3][n, m]`` (cos/sin of the column and row offsets of
     subsample ``m`` of ``n``), so no trigonometry per subsample either.
     ``u8`` bundles the uint8 fast path's views and batch buffers (its first
-    item says whether to use it).
+    item says whether to use it). With ``area``, each subsample is an area tap
+    (:func:`area_batch`, scratch ``ascr``) over its share of the pixel's
+    footprint ``J[:, k]``.
     """
     ST = bufs[0]
     SX = bufs[1]
     SY = bufs[2]
     SZ = bufs[3]
     SG = bufs[4]
+    SBX = bufs[7]
+    SBY = bufs[8]
     xc = tabs[0]
     xs = tabs[1]
     yc = tabs[2]
@@ -1037,8 +1308,15 @@ def _subsamples(
         a = nx[k]
         b = ny[k]
         if nb + a * b > SUB_BATCH:
-            _flush(nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8)
+            _flush(
+                nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8, area, ascr
+            )
             nb = 0
+        bxs = 0.0
+        bys = 0.0
+        if area:
+            bxs = math.sqrt((J[0, k] / a) ** 2 + (J[1, k] / b) ** 2)
+            bys = math.sqrt((J[2, k] / a) ** 2 + (J[3, k] / b) ** 2)
         for jb in range(b):
             dc = yc[b, jb]
             ds = ys[b, jb]
@@ -1054,13 +1332,15 @@ def _subsamples(
                 SG[nb] = 1.0
                 sv[nb] = 1
                 own[nb] = k
+                SBX[nb] = bxs
+                SBY[nb] = bys
                 nb += 1
     if nb > 0:
-        _flush(nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8)
+        _flush(nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8, area, ascr)
 
 
 @njit(**_H)
-def _flush(nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8):
+def _flush(nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8, area, ascr):
     ST = bufs[0]
     SX = bufs[1]
     SY = bufs[2]
@@ -1070,6 +1350,10 @@ def _flush(nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8
     SV = bufs[6]
     run_stages(codes, params, ST, SX, SY, SZ, SG, sv, nb)
     to_source(SX, SY, SZ, nb, kx, ky, SU, SV)
+    if area:
+        WS, X0, Y0 = ascr
+        area_batch(img, SU, SV, bufs[7], bufs[8], nb, sv, own, acc, cover, WS, X0, Y0)
+        return
     if u8[0]:
         _, p64, tail, big, big_w, shift, lom, boa, bob, bwt, bqa, bqb, bres = u8
         hi = img[5]
@@ -1244,7 +1528,7 @@ def _tile(t, ntx, th, tw, ho, wo):
 def render_spec(
     img, p64, tail, big, o32, dst, ho, wo, co, fast_u8,
     codes, params, ccos, csin, tabs, kx, ky,
-    do_aa, aa_kx, aa_ky, tol, cap, uniform,
+    do_aa, aa_kx, aa_ky, tol, cap, uniform, jumps, rho, jmin, area,
     interp, bg, is_int, maxval, full, th, tw, wk, nw,
 ):  # fmt: skip
     """Render an equirectangular output through the stages of a map.
@@ -1255,6 +1539,13 @@ def render_spec(
     two-taps-a-load path (``p64``, ``tail``, ``o32`` are the unaligned views);
     otherwise the float32 sampler. ``do_aa``: compute samples per pixel
     (``uniform > 0``: that many per axis; else adaptive from the magnification).
+    ``jumps``: in adaptive mode, also give pixels on a jump of the map (a seam
+    between neighbouring pixels' source points, see :func:`_jump_flags`; ``rho``
+    the angular size of an input pixel) ``jmin x jmin`` samples at least. The
+    rows are then pulled back one ahead, with one column more on either side.
+    ``area`` (with ``do_aa``, ``uniform = 0``): every pixel is an area tap over
+    its footprint, supersampled where the footprint is over 2 input pixels
+    (:func:`_area_counts`, :func:`area_batch`).
     """
     hi = img[5]
     wi = img[6]
@@ -1294,12 +1585,30 @@ def render_spec(
     qa = qs[0]
     qb = qs[1]
     res = np.empty(tw, np.uint32)
-    bufs = np.empty((7, nsb))
+    bufs = np.zeros((9, nsb))
+    J = np.zeros((4, tw if area else 1))
+    na = max(nsb, tw) if area else 1
+    ascr = (np.empty((8, na), np.float32), np.empty(na, np.int64), np.empty(na, np.int64))
+    ident = np.arange(tw)
+    BXc = np.empty(tw)
+    BYc = np.empty(tw)
+    keep = np.empty(tw, np.uint8)
     own = np.empty(nsb, np.int64)
     sv = np.empty(nsb, np.uint8)
     mob1 = codes.shape[0] == 1 and codes[0] == STAGE_LORENTZ  # the common case, fused
     G[:] = 1.0
     valid[:] = 1
+    # jump mode: rows above / current / below (slots rotate), each w + 2 columns
+    jm = jumps and do_aa and uniform == 0 and not mob1
+    fast_px = fast_u8 and not area  # centre taps through the uint8 bilinear path
+    tw2 = tw + 2 if jm else 1
+    geo = np.empty((3, 4, tw2))
+    vals = np.empty((3, tw2), np.uint8)
+    jtmp = np.empty((4, tw2))
+    jc = jtmp[0]
+    js = jtmp[1]
+    jT = jtmp[2]
+    jG = jtmp[3]
     nu8 = nsb if fast_u8 else 1
     bi32 = np.empty((2, nu8), np.int32)
     bq = np.empty((2, nu8), np.uint64)
@@ -1313,6 +1622,14 @@ def render_spec(
         ty0, tx0, h, w = _tile(tt, ntx, th, tw, ho, wo)
         cc = ccos[tx0 : tx0 + w]
         cs = csin[tx0 : tx0 + w]
+        sa = 0
+        sc = 1
+        sn = 2
+        if jm:
+            for j in range(w + 2):
+                q = (tx0 - 1 + j) % wo
+                jc[j] = ccos[q]
+                js[j] = csin[q]
         for r in range(h):
             i = ty0 + r
             lat = HALF_PI - PI * (i + 0.5) / ho
@@ -1320,13 +1637,34 @@ def render_spec(
             sl = math.sin(lat)
             if mob1:
                 mobius_to_source(cl, sl, cc, cs, params[0], w, kx, ky, T, U, V)
+            elif jm:
+                if r == 0:
+                    if i > 0:
+                        _geom_row(i - 1, ho, jc, js, w + 2, codes, params, jT, jG, geo, vals, sa)
+                    _geom_row(i, ho, jc, js, w + 2, codes, params, jT, jG, geo, vals, sc)
+                else:
+                    sa, sc, sn = sc, sn, sa
+                if i + 1 < ho:
+                    _geom_row(i + 1, ho, jc, js, w + 2, codes, params, jT, jG, geo, vals, sn)
+                g = geo[sc]
+                to_source(g[0, 1:], g[1, 1:], g[2, 1:], w, kx, ky, U, V)
+                for k in range(w):
+                    T[k] = 1.0
+                    G[k] = g[3, k + 1]
+                    valid[k] = vals[sc, k + 1]
             else:
                 _directions(cl, sl, cc, cs, w, T, X, Y, Z, G, valid)
                 run_stages(codes, params, T, X, Y, Z, G, valid, w)
                 to_source(X, Y, Z, w, kx, ky, U, V)
             nsp = 0
-            if do_aa:
+            if area:
+                nsp = _area_counts(U, V, valid, w, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J)
+            elif do_aa:
                 nsp = _counts(T, G, valid, w, cl, aa_kx, aa_ky, tol, cap, uniform, nx, ny, special)
+            if do_aa:
+                if jm:
+                    nsp += _jump_flags(geo, vals, sa, sc, sn, i > 0, i + 1 < ho, w, cl, wo, ho,
+                                       rho, jmin, nx, ny, special, area, J)  # fmt: skip
             else:
                 for k in range(w):
                     special[k] = valid[k] == 0
@@ -1334,7 +1672,7 @@ def render_spec(
                     nx[k] = 1
                     ny[k] = 1
             p0 = i * wo + tx0
-            if fast_u8:
+            if fast_px:
                 taps_u8(U, V, w, wi, hi, big, oa, ob, wt)
                 gather_u8(p64, tail, big, big_w, shift, lom, oa, ob, qa, qb, w)
                 blend_u8(qa, qb, wt, res, w, c)
@@ -1343,7 +1681,14 @@ def render_spec(
                     continue
             acc[:w] = 0.0
             cover[:w] = 0
-            if not fast_u8:
+            if area:
+                for k in range(w):
+                    BXc[k] = math.sqrt(J[0, k] * J[0, k] + J[1, k] * J[1, k])
+                    BYc[k] = math.sqrt(J[2, k] * J[2, k] + J[3, k] * J[3, k])
+                    keep[k] = special[k] == 0
+                WS, X0, Y0 = ascr
+                area_batch(img, U, V, BXc, BYc, w, keep, ident, acc, cover, WS, X0, Y0)
+            elif not fast_u8:
                 for k in range(w):
                     if not special[k]:
                         acc_sample(img, U[k], V[k], interp, acc, k)
@@ -1351,10 +1696,11 @@ def render_spec(
             if nsp > 0:
                 _subsamples(
                     0, w, special, nx, ny, cl, sl, cc, cs, tabs,
-                    codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8,
+                    codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8, area, J,
+                    ascr,
                 )  # fmt: skip
             for k in range(w):
-                if special[k] or not fast_u8:
+                if special[k] or not fast_px:
                     finish_pixel(
                         acc, k, cover[k], nx[k] * ny[k], bg, dst, p0 + k, c, co,
                         is_int, maxval, full,

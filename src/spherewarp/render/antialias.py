@@ -21,7 +21,16 @@ The magnification says nothing where the map jumps (the seams between the
 copies of a Droste image): an output pixel there straddles points far apart
 in the input. :func:`jump_mask` finds them by comparing the distance between
 the source points of neighbouring pixels with what the magnification allows,
-and those pixels get ``JUMP_SAMPLES x JUMP_SAMPLES`` samples.
+and those pixels get ``JUMP_SAMPLES x JUMP_SAMPLES`` samples. The compiled
+renderer makes the same test in its kernel (for maps with a stage in
+:data:`spherewarp.render.fast.JUMP_KINDS`), and cached maps
+(:class:`~spherewarp.render.cache.WarpMap`) call :func:`jump_mask`, so all
+three paths supersample the same pixels.
+
+What ``auto`` does not do is filter pixels whose footprint is under one input
+pixel: they get one bilinear tap, the sharpest choice and what a rotation
+needs. A supersampled reference averages the bilinear surface over every
+pixel, so it differs from ``auto`` there (measured by ``bench/aa_profile.py``).
 
 The equirectangular input is oversampled along its rows near its poles
 (``rho`` is the size of a pixel at the equator), so a footprint there is not
@@ -61,13 +70,17 @@ AUTO_MAX = 8
 MAX_UNIFORM = 32
 #: samples per axis, in ``"auto"``, for pixels on a jump of the map (a seam of a Droste map)
 JUMP_SAMPLES = 4
+#: what ``"area"`` renders as where the area filter is not compiled (maps without kernel
+#: stages, several input images, interpolations other than bilinear, cached maps): uniform
+#: supersampling, which the area filter approximates
+AREA_FALLBACK = ("uniform", 4)
 
 
 def parse_antialias(antialias: str | int | None, supersample: int | None = None) -> tuple[str, int]:
     """Normalise the anti-aliasing options to ``(mode, n)``.
 
-    ``mode`` is ``"none"``, ``"auto"`` or ``"uniform"`` (``n x n`` samples a
-    pixel). ``supersample`` is the older option for uniform supersampling:
+    ``mode`` is ``"none"``, ``"auto"``, ``"area"`` or ``"uniform"`` (``n x n``
+    samples a pixel). ``supersample`` is the older option for uniform supersampling:
     a value above 1 wins over ``antialias``; 1 (its old default) or None
     leave the choice to ``antialias``.
 
@@ -75,6 +88,8 @@ def parse_antialias(antialias: str | int | None, supersample: int | None = None)
     --------
     >>> parse_antialias("AUTO"), parse_antialias("none"), parse_antialias(4), parse_antialias("3")
     (('auto', 0), ('none', 1), ('uniform', 4), ('uniform', 3))
+    >>> parse_antialias("area")
+    ('area', 0)
     >>> parse_antialias("auto", supersample=1), parse_antialias("none", supersample=2)
     (('auto', 0), ('uniform', 2))
     """
@@ -97,6 +112,8 @@ def parse_antialias(antialias: str | int | None, supersample: int | None = None)
             return ("auto", 0)
         if name in ("none", "off", "no"):
             return ("none", 1)
+        if name == "area":
+            return ("area", 0)
         if name.isdigit():
             antialias = int(name)
     if (
@@ -107,7 +124,8 @@ def parse_antialias(antialias: str | int | None, supersample: int | None = None)
         n = int(antialias)
         return ("none", 1) if n == 1 else ("uniform", n)
     raise InvalidValueError(
-        f"expected antialias to be 'auto', 'none' or an integer 1..{MAX_UNIFORM}, got {antialias!r}"
+        f"expected antialias to be 'auto', 'area', 'none' or an integer 1..{MAX_UNIFORM}, "
+        f"got {antialias!r}"
     )
 
 

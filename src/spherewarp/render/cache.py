@@ -152,6 +152,8 @@ class WarpMap:
         )
         interp = check_interp(interp)
         mode, n = _aa.parse_antialias(antialias, supersample)
+        if mode == "area":  # not cached: sample lists hold point samples
+            mode, n = _aa.AREA_FALLBACK
         use_jit = fast.available()
         spec = fast.kernel_spec(inverse_map) if use_jit else None
         th, tw = fast.TILE
@@ -174,30 +176,50 @@ class WarpMap:
         sp_valid: list[NDArray] = []
         sp_tile = np.zeros(nty * ntx + 1, np.int64)
         ccols = np.arange(w_out) + 0.5
+        rho_in = min(np.pi / h_in, 2 * np.pi / w_in)
+        jumps = mode == "auto" and (
+            spec is None or bool(np.isin(spec.codes, fast.jump_codes()).any())
+        )
+
+        def centres(ra: int, rb: int) -> tuple[NDArray, NDArray, NDArray | None, NDArray]:
+            """Tap-space source coordinates, magnification and validity of rows ra..rb."""
+            if spec is not None:
+                x, y, scale, valid = fast.source_coords(
+                    spec, (h_in, w_in), (h_out, w_out), (ra, rb), threads
+                )
+                return x - 0.5, y - 0.5, scale, valid
+            px = np.stack(np.broadcast_arrays(ccols[None, :], np.arange(ra, rb)[:, None] + 0.5), -1)
+            zw = coords.cp1_from_lonlat(coords.lonlat_from_pixel(px, w_out, h_out))
+            pb = inverse_map.pull(zw)
+            src = coords.pixel_from_lonlat(coords.lonlat_from_cp1(pb.points), w_in, h_in)
+            valid = np.ones(src.shape[:-1], bool) if pb.valid is None else pb.valid
+            scale = (
+                np.nan_to_num(inverse_map.local_scale(zw), nan=1.0, posinf=1e6)
+                if mode == "auto"
+                else None
+            )
+            return src[..., 0] - 0.5, src[..., 1] - 0.5, scale, valid
+
         for ty in range(nty):
             r0, r1 = ty * th, min(h_out, (ty + 1) * th)
             h = r1 - r0
-            # centre samples of this row of tiles
-            if spec is not None:
-                x, y, scale, valid = fast.source_coords(
-                    spec, (h_in, w_in), (h_out, w_out), (r0, r1), threads
+            # centre samples of this row of tiles (and, to find jumps, of the rows next to it)
+            ra, rb = (max(0, r0 - 1), min(h_out, r1 + 1)) if jumps else (r0, r1)
+            u, v, scale, valid = centres(ra, rb)
+            if jumps:
+                xyz = coords.xyz_from_lonlat(
+                    coords.lonlat_from_pixel(np.stack([u + 0.5, v + 0.5], -1), w_in, h_in)
                 )
-                u, v = x - 0.5, y - 0.5
-            else:
-                px = np.stack(
-                    np.broadcast_arrays(ccols[None, :], np.arange(r0, r1)[:, None] + 0.5), -1
-                )
-                lonlat = coords.lonlat_from_pixel(px, w_out, h_out)
-                zw = coords.cp1_from_lonlat(lonlat)
-                pb = inverse_map.pull(zw)
-                src = coords.pixel_from_lonlat(coords.lonlat_from_cp1(pb.points), w_in, h_in)
-                u, v = src[..., 0] - 0.5, src[..., 1] - 0.5
-                valid = np.ones(u.shape, bool) if pb.valid is None else pb.valid
-                scale = (
-                    np.nan_to_num(inverse_map.local_scale(zw), nan=1.0, posinf=1e6)
-                    if mode == "auto"
-                    else None
-                )
+                lat_rows = np.pi / 2 - np.pi * (np.arange(ra, rb) + 0.5) / h_out
+                if rb == r1:  # no row below: repeat the last one (no jump there)
+                    xyz = np.concatenate([xyz, xyz[-1:]])
+                    scale = np.concatenate([scale, scale[-1:]])
+                    valid = np.concatenate([valid, valid[-1:]])
+                    lat_rows = np.concatenate([lat_rows, lat_rows[-1:]])
+                jump = _aa.jump_mask(xyz, scale, lat_rows, valid, rho_in, h_out)
+                inner = slice(r0 - ra, r0 - ra + h)
+                jump = jump[inner]
+                u, v, scale, valid = u[inner], v[inner], scale[inner], valid[inner]
             if mode == "uniform":
                 nx = ny = np.full(u.shape, n, np.int64)
             elif mode == "auto":
@@ -205,6 +227,9 @@ class WarpMap:
                 nx, ny = _aa.sample_counts(
                     scale, np.broadcast_to(lat, u.shape), factors, _aa.AUTO_TOLERANCE, _aa.AUTO_MAX
                 )
+                if jumps:
+                    nx[jump] = np.maximum(nx[jump], _aa.JUMP_SAMPLES)
+                    ny[jump] = np.maximum(ny[jump], _aa.JUMP_SAMPLES)
             else:
                 nx = ny = np.ones(u.shape, np.int64)
             special = (nx * ny > 1) | ~valid | (not bilinear)

@@ -68,10 +68,12 @@ from ..maps.base import Composite, SphereMap
 from . import antialias as _aa
 
 __all__ = [
+    "JUMP_KINDS",
     "OPT_IN_KINDS",
     "STAGE_KINDS",
     "KernelSpec",
     "available",
+    "jump_codes",
     "kernel_spec",
     "lorentz_from_sl2",
     "render_spec",
@@ -221,17 +223,27 @@ def _stage_max_scale(kind: str, p: NDArray[np.float64]) -> float:
     return math.inf
 
 
+#: stage kinds whose maps jump between neighbouring pixels (Droste: its seams; exp: the spiral
+#: into its essential singularity). In ``antialias="auto"`` the compiled renderer looks for
+#: jumps in maps with one of these stages (comparing each pixel's source point with its
+#: four neighbours', as :func:`spherewarp.render.antialias.jump_mask`) and supersamples the
+#: pixels on them; the magnification alone says nothing there.
+JUMP_KINDS: frozenset[str] = frozenset({"droste", "exp"})
+
 #: stage kinds that compile only on request (``kernel_spec(m, opt_in={kind, ...})``), and why.
-#: Droste and exp maps jump between neighbouring pixels (Droste: discontinuous; exp: the
-#: spiral into its essential singularity), and the compiled renderer's adaptive
-#: anti-aliasing follows the magnification only: it does not find jumps as the
-#: NumPy-geometry path does (``antialias.jump_mask``). Power: ``splitscreen`` promises
-#: (doctest, CLI test) bit-equality with ``warp(img, Power(n))`` rendered through the
-#: float32 sampler, which the uint8 fixed-point taps miss by one level here and there.
-OPT_IN_KINDS: dict[str, str] = {
-    "droste": "jumps (adaptive anti-aliasing)",
-    "exp": "jumps near the singularity (adaptive anti-aliasing)",
-}
+#: Empty now: every kind has a compiled stage that is used by default.
+OPT_IN_KINDS: dict[str, str] = {}
+
+
+def jump_codes() -> list[int]:
+    """Stage codes of :data:`JUMP_KINDS`.
+
+    Examples
+    --------
+    >>> sorted(jump_codes()) == sorted(STAGE_KINDS[k][0] for k in ("droste", "exp"))
+    True
+    """
+    return [STAGE_KINDS[k][0] for k in JUMP_KINDS]
 
 
 def kernel_spec(m: SphereMap, *, opt_in: Collection[str] = ()) -> KernelSpec | None:
@@ -450,11 +462,19 @@ def render_spec(
     aa_kx *= _aa.AUTO_DENSITY
     aa_ky *= _aa.AUTO_DENSITY
     tol = float(_aa.AUTO_TOLERANCE)
+    if aa[0] == "area" and interp != "bilinear":
+        aa = _aa.AREA_FALLBACK
     mode, n = aa
-    cap = _aa.AUTO_MAX if mode == "auto" else max(1, n)
-    do_aa = mode == "uniform" or (mode == "auto" and spec.max_scale * max(aa_kx, aa_ky) > 1.0 + tol)
+    area = mode == "area"
+    cap = _aa.AUTO_MAX if mode in ("auto", "area") else max(1, n)
+    do_aa = mode in ("uniform", "area") or (
+        mode == "auto" and spec.max_scale * max(aa_kx, aa_ky) > 1.0 + tol
+    )
     uniform = n if mode == "uniform" else 0
-    tabs = _offset_tables((h_out, w_out), cap)
+    jumps = bool(np.isin(spec.codes, jump_codes()).any())
+    rho_in = min(math.pi / h_in, 2 * math.pi / w_in)
+    # jump pixels get JUMP_SAMPLES per axis whatever the cap: the tables must cover them
+    tabs = _offset_tables((h_out, w_out), max(cap, _aa.JUMP_SAMPLES))
     ccos, csin = _column_tables(w_out)
     is_int, maxval, full = _value_params(src.dtype)
     fast = _fast_u8_ok(src, out, interp)
@@ -466,7 +486,7 @@ def render_spec(
     args = (
         _image_bundle(src), p64, tail, big, o32, _output_bundle(out), h_out, w_out, out.shape[2],
         fast, spec.codes, spec.params, ccos, csin, tabs, kx, ky,
-        do_aa, aa_kx, aa_ky, tol, cap, uniform,
+        do_aa, aa_kx, aa_ky, tol, cap, uniform, jumps, rho_in, _aa.JUMP_SAMPLES, area,
         INTERP_CODES[interp], np.asarray(background, np.float32), is_int, maxval, full,
         th, tw,
     )  # fmt: skip

@@ -154,12 +154,19 @@ def warp(
         Above 1: average ``supersample x supersample`` samples in every
         output pixel (the same as ``antialias=supersample``, and it wins over
         ``antialias``); 1 or None leave it to ``antialias``.
-    antialias : "auto", "none" or int
+    antialias : "auto", "area", "none" or int
         ``"auto"`` (default): supersample only where an output pixel covers
         more than about one input pixel, as many samples as its footprint
         needs (up to 8 x 8), from the map's local magnification; nothing is
-        supersampled where the map does not shrink (a rotation). ``"none"``:
-        one sample a pixel. ``N``: ``N x N`` samples in every pixel.
+        supersampled where the map does not shrink (a rotation), and pixels
+        on a jump of the map (a Droste seam) get 4 x 4 samples. ``"area"``:
+        every pixel is the average of the bilinear image over its footprint
+        (in closed form, supersampled where the footprint is over 2 input
+        pixels): what heavy supersampling gives, at about half the time of
+        uniform 4 x 4 and 8-12 times that of ``"none"`` (more where the map
+        sends many pixels next to the input's poles; bilinear maps with
+        compiled stages; elsewhere it is uniform 4 x 4). ``"none"``: one
+        sample a pixel. ``N``: ``N x N`` samples in every pixel.
     background : number or sequence, optional
         Colour where the map is undefined, in the image's units (default 0,
         which for an image with alpha means transparent).
@@ -251,6 +258,9 @@ def warp(
                     images[0], spec, out, interp=interp, aa=aa, background=bg, threads=threads
                 )
                 return out
+    if aa[0] == "area":  # the area filter is compiled for maps with kernel stages only
+        aa = _aa.AREA_FALLBACK
+    if method != "reference" and fast.available():
         _warp_by_samples(images, inverse_map, out, interp, aa, bg, "fast", threads)
         return out
     if aa[0] == "auto":
