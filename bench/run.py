@@ -503,7 +503,7 @@ def summary() -> list[str]:
         if c1 and c2:
             lines.append(f"{size}: cached, 1 thread / 2 threads = {c1 / c2:.2f} (target >= 1.7)")
     for size in sizes:
-        for t in sorted({r["threads"] for r in ROWS if r["size"] == size}):
+        for t in sorted({r["threads"] for r in ROWS if r["size"] == size} - {None}):
             fixed = get("rotate", "cv2.remap fixed-point maps", size, t)
             for name, (_, target) in effect_maps().items():
                 cases = [f"on the fly, {name}, AA {aa}" for aa in ("auto", "none")]
@@ -590,10 +590,6 @@ def main() -> None:
         bench_cli(8192)
     add_ratios()
     print_table()
-    lines = summary()
-    print("\n== targets (ratios from this run)")
-    for line in lines:
-        print("  " + line)
     out = HERE / "results"
     out.mkdir(exist_ok=True)
     stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S")
@@ -609,6 +605,12 @@ def main() -> None:
         "quick": args.quick,
     }
     path = out / f"bench-{stamp}{'-quick' if args.quick else ''}.json"
+    # the measurements first: a fault in the summary must not lose them
+    path.write_text(json.dumps({"meta": meta, "rows": ROWS}, indent=1))
+    lines = summary()
+    print("\n== targets (ratios from this run)")
+    for line in lines:
+        print("  " + line)
     path.write_text(json.dumps({"meta": meta, "rows": ROWS, "summary": lines}, indent=1))
     print(f"\nwrote {path}")
 

@@ -982,7 +982,7 @@ def _jump_flags(geo, vals, above, cur, below, has_above, has_below, w, cl, wo, h
 
 
 # -- sampling, any dtype (float32 arithmetic, as spherewarp.render.sampling) -----------------------
-@njit(inline="always", **_H)
+@njit(**_H)
 def _fold(iy, ix, h, w):
     if iy < 0:
         iy = -1 - iy
@@ -994,7 +994,7 @@ def _fold(iy, ix, h, w):
     return iy, ix % w
 
 
-@njit(inline="always", **_H)
+@njit(**_H)
 def _cubic(t):
     a = np.float32(-0.5)
     t2 = t * t
@@ -1006,7 +1006,7 @@ def _cubic(t):
     return w0, w1, w2, w3
 
 
-@njit(inline="always", **_H)
+@njit(**_H)
 def _get(img, iy, ix, ch):
     """Pixel value of the image bundle ``img`` as float32 (see ``fast._image_bundle``)."""
     dt = img[4]
@@ -1019,7 +1019,7 @@ def _get(img, iy, ix, ch):
     return np.float32(img[3][iy, ix, ch])
 
 
-@njit(inline="always", **_H)
+@njit(**_H)
 def _put(dst, i, r):
     """Store element ``i`` of the flat output bundle ``dst`` (``r`` already rounded)."""
     dt = dst[4]
@@ -1033,7 +1033,7 @@ def _put(dst, i, r):
         dst[3][i] = r
 
 
-@njit(inline="always", **_H)
+@njit(**_H)
 def acc_sample(img, u, v, interp, acc, j):
     """``acc[j, :] += sample of the image at tap-space (u, v)`` (float32)."""
     h = img[5]
