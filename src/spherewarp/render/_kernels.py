@@ -133,13 +133,8 @@ _A18 = 2.969635660165779e-05
 
 # -- geometry --------------------------------------------------------------------------------------
 @njit(inline="always", **_H)
-def atan2_poly(y: float, x: float) -> float:
-    """``atan2(y, x)`` in ``[-pi, pi]``, branch-free (vectorisable), error < 5e-16."""
-    ax = abs(x)
-    ay = abs(y)
-    mx = max(ax, ay)
-    mn = min(ax, ay)
-    a = mn / mx if mx > 0.0 else 0.0
+def _atan01(a):
+    """``atan(a)`` for ``0 <= a <= 1`` (the polynomial of :func:`atan2_poly`), branch-free."""
     s = a * a
     p = _A18
     p = p * s + _A17
@@ -160,10 +155,26 @@ def atan2_poly(y: float, x: float) -> float:
     p = p * s + _A2
     p = p * s + _A1
     p = p * s + _A0
-    r = p * a
-    r = HALF_PI - r if ay > ax else r
+    return p * a
+
+
+@njit(inline="always", **_H)
+def _atan2_ratio(a, y, x):
+    """``atan2(y, x)`` from ``a = min(|x|, |y|) / max(|x|, |y|)`` (0 if both are 0)."""
+    r = _atan01(a)
+    r = HALF_PI - r if abs(y) > abs(x) else r
     r = PI - r if x < 0.0 else r
     return -r if y < 0.0 else r
+
+
+@njit(inline="always", **_H)
+def atan2_poly(y: float, x: float) -> float:
+    """``atan2(y, x)`` in ``[-pi, pi]``, branch-free (vectorisable), error < 5e-16."""
+    ax = abs(x)
+    ay = abs(y)
+    mx = max(ax, ay)
+    a = min(ax, ay) / mx if mx > 0.0 else 0.0
+    return _atan2_ratio(a, y, x)
 
 
 @njit(**_H)
@@ -634,41 +645,6 @@ def _stage_rational(p, T, X, Y, Z, G, valid, n):
         # wrap-around, which stops LLVM from vectorising (no reference counting here)
         k1 = min(k0 + _RB, n)
         _rational_block(p, plan, T[k0:k1], X[k0:k1], Y[k0:k1], Z[k0:k1], G[k0:k1], k1 - k0, buf)
-
-
-@njit(inline="always", **_H)
-def _atan01(a):
-    """``atan(a)`` for ``0 <= a <= 1`` (the polynomial of :func:`atan2_poly`), branch-free."""
-    s = a * a
-    p = _A18
-    p = p * s + _A17
-    p = p * s + _A16
-    p = p * s + _A15
-    p = p * s + _A14
-    p = p * s + _A13
-    p = p * s + _A12
-    p = p * s + _A11
-    p = p * s + _A10
-    p = p * s + _A9
-    p = p * s + _A8
-    p = p * s + _A7
-    p = p * s + _A6
-    p = p * s + _A5
-    p = p * s + _A4
-    p = p * s + _A3
-    p = p * s + _A2
-    p = p * s + _A1
-    p = p * s + _A0
-    return p * a
-
-
-@njit(inline="always", **_H)
-def _atan2_ratio(a, y, x):
-    """``atan2(y, x)`` from ``a = min(|x|, |y|) / max(|x|, |y|)`` (0 if both are 0)."""
-    r = _atan01(a)
-    r = HALF_PI - r if abs(y) > abs(x) else r
-    r = PI - r if x < 0.0 else r
-    return -r if y < 0.0 else r
 
 
 @njit(inline="always", **_H)
