@@ -1494,6 +1494,21 @@ def store_u8(res, o32, p0, obytes, b0, n, c, spill):
 
 # -- tiles -----------------------------------------------------------------------------------------
 @njit(**_H)
+def _layout(img, dst, ho, wo, th, tw):
+    """What the tiled entry points share: input width and channels, the output's bytes,
+    tiles per row and in all, and the uint8 pair path's row length, shift, low-pixel
+    mask and spill (pixels whose 4-byte store would run past the row)."""
+    wi = img[6]
+    c = img[7]
+    ntx = (wo + tw - 1) // tw
+    ntiles = ((ho + th - 1) // th) * ntx
+    shift = np.uint64(8 * c)
+    lom = (np.uint64(1) << shift) - np.uint64(1)
+    spill = (4 - c + c - 1) // c
+    return wi, c, dst[0], ntx, ntiles, np.int64(wi), shift, lom, spill
+
+
+@njit(**_H)
 def _tile(t, ntx, th, tw, ho, wo):
     ty0 = (t // ntx) * th
     tx0 = (t % ntx) * tw
@@ -1524,16 +1539,7 @@ def render_spec(
     (:func:`_area_counts`, :func:`area_batch`).
     """
     hi = img[5]
-    wi = img[6]
-    c = img[7]
-    obytes = dst[0]
-    nty = (ho + th - 1) // th
-    ntx = (wo + tw - 1) // tw
-    ntiles = nty * ntx
-    big_w = np.int64(wi)
-    shift = np.uint64(8 * c)
-    lom = (np.uint64(1) << shift) - np.uint64(1)
-    spill = (4 - c + c - 1) // c
+    wi, c, obytes, ntx, ntiles, big_w, shift, lom, spill = _layout(img, dst, ho, wo, th, tw)
     nsb = SUB_BATCH if do_aa else 1
     # Worker wk of nw (threads of the caller): scratch is allocated once; rows of tiles
     # are dealt out round-robin, and each row is walked left to right (cache locality).
@@ -1774,16 +1780,7 @@ def apply_cache(
     map whose pixels are all special), then the special pixels (anti-aliased,
     partly undefined, folded over a pole, or not bilinear) from their sample
     lists."""
-    wi = img[6]
-    c = img[7]
-    obytes = dst[0]
-    nty = (ho + th - 1) // th
-    ntx = (wo + tw - 1) // tw
-    ntiles = nty * ntx
-    big_w = np.int64(wi)
-    shift = np.uint64(8 * c)
-    lom = (np.uint64(1) << shift) - np.uint64(1)
-    spill = (4 - c + c - 1) // c
+    wi, c, obytes, ntx, ntiles, big_w, shift, lom, spill = _layout(img, dst, ho, wo, th, tw)
     one = np.float32(1.0)
     inv = one / np.float32(256.0)
     qs = np.empty((2, tw), np.uint64)
