@@ -191,19 +191,46 @@ def test_area_of_the_identity_is_the_one_pixel_box():
 
 @needs_jit
 @pytest.mark.parametrize(
-    "m", [Mobius.zoom((20.0, 10.0), 4.0).inverse(), Mobius.from_yaw_pitch_roll(30, 20, 10)]
+    ("m", "slack"),
+    [
+        (Mobius.zoom((20.0, 10.0), 4.0).inverse(), 0.5),
+        (Mobius.from_yaw_pitch_roll(30, 20, 10), 1.0),
+    ],
 )
-def test_area_matches_heavy_supersampling(m):
-    """Against 12 x 12 supersampling of a photograph, the area filter does as well as
-    4 x 4 (to 0.5 dB) and far better than one bilinear tap."""
+def test_area_matches_heavy_supersampling(m, slack):
+    """Against 12 x 12 supersampling of a photograph, the area filter does about as well
+    as 4 x 4 (the zoom: to 0.5 dB) and far better than one bilinear tap. On a rotation
+    it may be up to 1 dB behind: its box is aligned with the input's axes, and a
+    footprint that is sheared there (away from the equators) is not."""
     from spherewarp.demo import sample_path
     from spherewarp.io import read_image
 
     img = np.ascontiguousarray(read_image(sample_path()).pixels[::4, ::4])  # 128 x 256
     ref = warp(img, m, antialias=12)
     area = _psnr(warp(img, m, antialias="area"), ref)
-    assert area >= _psnr(warp(img, m, antialias=4), ref) - 0.5
+    assert area >= _psnr(warp(img, m, antialias=4), ref) - slack
     assert area >= _psnr(warp(img, m, antialias="none"), ref) + 10.0
+
+
+@needs_jit
+@pytest.mark.parametrize("kind", ["zoom", "droste"])
+def test_area_fixed_point_taps_match_float_taps(kind):
+    """uint8 images take 4 x 4 fixed-point taps (weights in 1/4096); float images the
+    float32 ones: the same filter, to within a level (two where rounding meets on
+    pixels that sum many taps)."""
+    from spherewarp.maps import Droste
+
+    rng = np.random.default_rng(7)
+    img = rng.integers(0, 256, (64, 128, 3), dtype=np.uint8)
+    if kind == "zoom":
+        m = Mobius.zoom((20.0, 10.0), 6.0).inverse()
+    else:
+        m = Droste((0.0, 0.0), np.full(16, np.log(np.tan(np.radians(20.0) / 2))), 3.0)
+    a = warp(img, m, antialias="area").astype(int)
+    b = np.rint(warp(img.astype(np.float32), m, antialias="area")).astype(int)
+    d = np.abs(a - b)
+    assert d.max() <= 2
+    assert (d > 1).mean() < 1e-3
 
 
 def test_area_falls_back_to_uniform_supersampling():

@@ -1198,8 +1198,8 @@ def area_batch(img, U, V, BX, BY, n, keep, own, acc, cover, WS, X0, Y0):
         _area_apply(img[3], h, w, c, n, WS, X0, Y0, keep, own, acc, cover)
 
 
-@njit(**_H)
-def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J):
+@njit(**_V)
+def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, special, J, BX, BY, mx, my, S):
     """Footprints (``J``) and samples per pixel of ``antialias="area"``; returns the
     number of special pixels.
 
@@ -1210,45 +1210,100 @@ def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, 
     follows from it because the map is conformal: on the sphere the image of the
     output's north step is the image of its east step turned by a right angle and
     scaled by their ratio ``q`` (``cos(lat_src)`` converts between the chart and the
-    sphere). A pixel gets ``ceil(L / sqrt 2)`` samples along each of its axes (``L``
-    the length of that column of ``J``), so that each sample's box is at most two
-    input pixels wide: :func:`area_batch`'s limit. A chunk of one pixel has no
-    neighbour to difference with: it gets a plain bilinear tap.
+    sphere). The footprint's box in the input is ``BX x BY`` (the lengths of the rows
+    of ``J``: a box with the footprint's second moments). A pixel gets
+    ``ceil(L / sqrt 2)`` taps along each of its axes (``L`` the length of that column
+    of ``J``, at most ``cap``), so that each tap's box is at most two input pixels
+    wide, the area tap's limit (:func:`_area_linear`). A chunk of one pixel has no
+    neighbour to difference with: it gets a plain bilinear tap. Returns how many
+    pixels are undefined (``special``) and how many need several taps. ``S``: scratch,
+    ``(3, >= n + 1)``.
     """
     q = wo / (2.0 * ho * cl)
     half = 0.5 * wi
     kv = PI / hi
-    for k in range(n):  # cos(lat) of the source points (vectorised), kept in J[3]
-        J[3, k] = fsincos(kv * (V[k] + 0.5))[0]
-    nsp = 0
+    CS = S[0]
+    DU = S[1]
+    DV = S[2]
+    # vectorised passes: cos(lat) of the source points, the differences to the left
+    # neighbour (wrapped round the seam), then per pixel the shorter of its left and
+    # right differences
     for k in range(n):
-        du = 0.0
-        dv = 0.0
-        if n > 1:
-            kl = k - 1 if k > 0 else k + 1
-            kr = k + 1 if k + 1 < n else k - 1
-            dul = U[k] - U[kl]
-            dul -= wi * math.floor((dul + half) / wi)
-            dvl = V[k] - V[kl]
-            dur = U[kr] - U[k]
-            dur -= wi * math.floor((dur + half) / wi)
-            dvr = V[kr] - V[k]
-            left = dul * dul + dvl * dvl <= dur * dur + dvr * dvr
-            du = dul if left else dur
-            dv = dvl if left else dvr
-        cs = max(J[3, k], 1e-9)
-        j00 = du
-        j20 = dv
-        j01 = q * dv / cs
+        CS[k] = max(fsincos(kv * (V[k] + 0.5))[0], 1e-9)
+    for k in range(1, n):
+        d = U[k] - U[k - 1]
+        d = d - wi if d > half else d
+        DU[k] = d + wi if d < -half else d
+        DV[k] = V[k] - V[k - 1]
+    if n > 1:
+        DU[0] = DU[1]
+        DV[0] = DV[1]
+    else:
+        DU[0] = 0.0
+        DV[0] = 0.0
+    DU[n] = DU[n - 1]
+    DV[n] = DV[n - 1]
+    nsp = 0
+    nbig = 0
+    r2 = 1.0 / math.sqrt(2.0)
+    fcap = np.float64(cap)
+    for k in range(n):
+        dul = DU[k]
+        dvl = DV[k]
+        dur = DU[k + 1]
+        dvr = DV[k + 1]
+        ll = dul * dul + dvl * dvl
+        lr = dur * dur + dvr * dvr
+        left = ll <= lr
+        du = dul if left else dur
+        dv = dvl if left else dvr
+        # where the two agree (no jump next door), their mean: the derivative at the
+        # centre rather than half a pixel off
+        near = 4.0 * min(ll, lr) >= max(ll, lr)
+        du = 0.5 * (dul + dur) if near else du
+        dv = 0.5 * (dvl + dvr) if near else dv
+        cs = CS[k]
+        j01 = -q * dv / cs
         j21 = q * du * cs
-        J[0, k] = j00
-        J[1, k] = j01
-        J[2, k] = j20
-        J[3, k] = j21
-        fa = math.ceil(math.sqrt(j00 * j00 + j20 * j20) * 0.7071067811865476 - tol)
-        fb = math.ceil(math.sqrt(j01 * j01 + j21 * j21) * 0.7071067811865476 - tol)
-        nsp += _set_count(fa, fb, cap, valid[k], nx, ny, special, k)
-    return nsp
+        BX[k] = math.sqrt(du * du + j01 * j01)
+        BY[k] = math.sqrt(dv * dv + j21 * j21)
+        # Split along the pixel's own axes, or, where that takes fewer taps, along the
+        # principal axes of the footprint: J V with V the right singular vectors (J J^T,
+        # so BX and BY, do not change), the first column the longer. A long thin
+        # footprint (next to the input's poles) is then split along its length only.
+        fa = math.sqrt(du * du + dv * dv) * r2
+        fb = math.sqrt(j01 * j01 + j21 * j21) * r2
+        a = min(max(math.ceil(fa - tol), 1.0), fcap)
+        b = min(max(math.ceil(fb - tol), 1.0), fcap)
+        p0 = du * du + dv * dv
+        p1 = j01 * j01 + j21 * j21
+        pr = du * j01 + dv * j21
+        dp = p0 - p1
+        hh = math.sqrt(dp * dp + 4.0 * pr * pr)
+        c2 = dp / hh if hh > 1e-12 * (p0 + p1) else 1.0
+        ct = math.sqrt(max(0.5 + 0.5 * c2, 0.0))
+        st = math.sqrt(max(0.5 - 0.5 * c2, 0.0))
+        st = -st if pr < 0.0 else st
+        fpa = math.sqrt(max(0.5 * (p0 + p1 + hh), 0.0)) * r2
+        fpb = math.sqrt(max(0.5 * (p0 + p1 - hh), 0.0)) * r2
+        pa = min(max(math.ceil(fpa - tol), 1.0), fcap)
+        pb = min(max(math.ceil(fpb - tol), 1.0), fcap)
+        usep = 3.0 * pa * pb <= a * b
+        ct = ct if usep else 1.0
+        st = st if usep else 0.0
+        a = pa if usep else a
+        b = pb if usep else b
+        J[0, k] = du * ct + j01 * st
+        J[1, k] = j01 * ct - du * st
+        J[2, k] = dv * ct + j21 * st
+        J[3, k] = j21 * ct - dv * st
+        mx[k] = np.int64(a)
+        my[k] = np.int64(b)
+        bad = np.int64(valid[k] == 0)
+        special[k] = bad
+        nsp += bad
+        nbig += (1 - bad) * np.int64(a * b > 1.0)
+    return nsp, nbig
 
 
 @njit(**_H)
@@ -1492,6 +1547,266 @@ def store_u8(res, o32, p0, obytes, b0, n, c, spill):
             obytes[b0 + k * c + ch] = np.uint8((r >> np.uint32(8 * ch)) & np.uint32(255))
 
 
+# -- uint8 area taps: 4 x 4 fixed-point weights of tent * box ------------------------------------
+@njit(inline="always", **_H)
+def _ramp_integral(t):
+    """``int_0^t clamp(1 - s, 0, 1) ds`` (branch-free): the antiderivative of the sum of
+    the tents at or left of 0 (a ramp from 1 down to 0 over ``[0, 1]``)."""
+    tc = min(t, np.float32(1.0))
+    p = max(tc, np.float32(0.0))
+    return tc - np.float32(0.5) * p * p
+
+
+@njit(**_V)
+def area_taps_u8(U, V, BX, BY, n, WX, WY, X0, Y0):
+    """Fixed-point area taps (vectorised): the first tap ``X0, Y0`` and the weights
+    ``WX[0:4]`` (columns), ``WY[0:4]`` (rows) of each sample, in 1/4096, each set
+    summing to exactly 4096 (so that a weighted sum of 255s, 255 * 4096 * 4096, still
+    fits in 32 bits).
+
+    The weights are those of :func:`_area_weights` (the tent averaged over a box
+    of width ``b``, clamped to ``[1e-3, 2]``), taken as differences of rounded
+    cumulative sums; the cumulative weight of the taps up to ``d`` is the ramp's
+    integral over the box.
+    """
+    one = np.float32(1.0)
+    half = np.float32(0.5)
+    lo = np.float32(1e-3)
+    hi = np.float32(2.0)
+    for k in range(n):
+        fu = math.floor(U[k])
+        fv = math.floor(V[k])
+        X0[k] = np.int32(fu) - np.int32(1)
+        Y0[k] = np.int32(fv) - np.int32(1)
+        fx = np.float32(U[k] - fu)
+        fy = np.float32(V[k] - fv)
+        bx = min(max(np.float32(BX[k]), lo), hi)
+        by = min(max(np.float32(BY[k]), lo), hi)
+        hx = half * bx
+        hy = half * by
+        sx = np.float32(4096.0) / bx
+        sy = np.float32(4096.0) / by
+        a = fx + one
+        c0 = np.int32((_ramp_integral(a + hx) - _ramp_integral(a - hx)) * sx + half)
+        c1 = np.int32((_ramp_integral(fx + hx) - _ramp_integral(fx - hx)) * sx + half)
+        a = fx - one
+        c2 = np.int32((_ramp_integral(a + hx) - _ramp_integral(a - hx)) * sx + half)
+        WX[0, k] = c0
+        WX[1, k] = c1 - c0
+        WX[2, k] = c2 - c1
+        WX[3, k] = np.int32(4096) - c2
+        a = fy + one
+        d0 = np.int32((_ramp_integral(a + hy) - _ramp_integral(a - hy)) * sy + half)
+        d1 = np.int32((_ramp_integral(fy + hy) - _ramp_integral(fy - hy)) * sy + half)
+        a = fy - one
+        d2 = np.int32((_ramp_integral(a + hy) - _ramp_integral(a - hy)) * sy + half)
+        WY[0, k] = d0
+        WY[1, k] = d1 - d0
+        WY[2, k] = d2 - d1
+        WY[3, k] = np.int32(4096) - d2
+
+
+@njit(**_H)
+def _area_gather_slow(p64, tail, big, w_in, h_in, c, x0, y0, Q, k):
+    """:func:`area_gather_u8` for a sample whose 4 x 4 taps cross the seam, a pole or
+    the end of ``p64``: pixel by pixel, folding and wrapping as :func:`acc_sample`."""
+    half = w_in // 2
+    shift = np.uint64(8 * c)
+    lom = (np.uint64(1) << shift) - np.uint64(1)
+    for j in range(4):
+        iy = y0 + j
+        sh = 0
+        if iy < 0:  # fold over the pole: row -1 - iy, half a turn round
+            iy = -1 - iy
+            sh = half
+        elif iy >= h_in:
+            iy = 2 * h_in - 1 - iy
+            sh = half
+        iy = min(max(iy, 0), h_in - 1)
+        base = iy * w_in
+        xs = x0 + sh
+        if xs < 0 or xs >= w_in:
+            xs %= w_in
+        for m in range(2):
+            q = np.uint64(0)
+            for t in range(2):
+                xx = xs + 2 * m + t
+                xx = xx - w_in if xx >= w_in else xx
+                i = base + xx
+                px = (p64[i] if i < big else tail[i - big]) & lom
+                q |= px << (shift * np.uint64(t))
+            Q[2 * j + m, k] = q
+
+
+@njit(**_H)
+def area_gather_u8(p64, tail, big, w_in, h_in, c, X0, Y0, n, Q):
+    """The 4 x 4 pixels of each sample as 8 loads of two pixels: ``Q[2 j]`` holds
+    columns 0, 1 and ``Q[2 j + 1]`` columns 2, 3 of row ``j``."""
+    lim = big - 2 - 3 * w_in
+    for k in range(n):
+        x0 = X0[k]
+        y0 = Y0[k]
+        i = y0 * w_in + x0
+        if y0 >= 0 and y0 + 3 < h_in and x0 >= 0 and x0 + 3 < w_in and i < lim:
+            a = np.uint32(i)
+            b = a + np.uint32(w_in)
+            d = b + np.uint32(w_in)
+            e = d + np.uint32(w_in)
+            two = np.uint32(2)
+            Q[0, k] = p64[a]
+            Q[1, k] = p64[a + two]
+            Q[2, k] = p64[b]
+            Q[3, k] = p64[b + two]
+            Q[4, k] = p64[d]
+            Q[5, k] = p64[d + two]
+            Q[6, k] = p64[e]
+            Q[7, k] = p64[e + two]
+        else:
+            _area_gather_slow(p64, tail, big, w_in, h_in, c, x0, y0, Q, k)
+
+
+@njit(inline="always", **_H)
+def _area_blend_c(Q, WX, WY, res, F, n, c, packed):
+    sh = np.uint64(8 * c)
+    m = np.uint64(255)
+    for k in range(n):
+        w0 = np.uint32(WX[0, k])
+        w1 = np.uint32(WX[1, k])
+        w2 = np.uint32(WX[2, k])
+        w3 = np.uint32(WX[3, k])
+        r = np.uint32(0)
+        for ch in range(c):
+            s0 = np.uint64(8 * ch)
+            s1 = s0 + sh
+            acc = np.uint32(0)
+            for j in range(4):
+                qa = Q[2 * j, k]
+                qb = Q[2 * j + 1, k]
+                row = (
+                    np.uint32((qa >> s0) & m) * w0
+                    + np.uint32((qa >> s1) & m) * w1
+                    + np.uint32((qb >> s0) & m) * w2
+                    + np.uint32((qb >> s1) & m) * w3
+                )
+                acc += row * np.uint32(WY[j, k])
+            if packed:
+                r |= ((acc + np.uint32(1 << 23)) >> np.uint32(24)) << np.uint32(8 * ch)
+            else:
+                F[ch, k] = np.float32(acc) * np.float32(1.0 / (1 << 24))
+        if packed:
+            res[k] = r
+
+
+@njit(**_H)
+def area_blend_u8(Q, WX, WY, res, F, n, c, packed):
+    """The 4 x 4 weighted sums in 8.24 fixed point: rounded and packed into ``res``, or
+    (not ``packed``) as float32 ``F[channel, sample]``, for sums of several taps. One
+    branch per channel count, so that the channel loop is unrolled."""
+    if c == 3:
+        _area_blend_c(Q, WX, WY, res, F, n, 3, packed)
+    elif c == 4:
+        _area_blend_c(Q, WX, WY, res, F, n, 4, packed)
+    elif c == 1:
+        _area_blend_c(Q, WX, WY, res, F, n, 1, packed)
+    else:
+        _area_blend_c(Q, WX, WY, res, F, n, 2, packed)
+
+
+@njit(**_H)
+def area_u8(p64, tail, big, w_in, h_in, c, U, V, BX, BY, n, res, sc, packed):
+    """Area taps of ``n`` samples of a uint8 image into packed ``res`` or (not
+    ``packed``) ``sc[6]`` (``sc``: the scratch ``WX, WY, X0, Y0, Q``, results)."""
+    WX, WY, X0, Y0, Q, _, F = sc
+    area_taps_u8(U, V, BX, BY, n, WX, WY, X0, Y0)
+    area_gather_u8(p64, tail, big, w_in, h_in, c, X0, Y0, n, Q)
+    area_blend_u8(Q, WX, WY, res, F, n, c, packed)
+
+
+@njit(**_H)
+def _lin_flush(nb, img, use_u8, u8, sc, LU, LV, LBX, LBY, lown, acc, cover, ascr, keep):
+    if use_u8:
+        F = sc[6]
+        c = img[7]
+        area_u8(u8[1], u8[2], u8[3], img[6], img[5], c, LU, LV, LBX, LBY, nb, sc[5], sc, False)
+        for q in range(nb):
+            j = lown[q]
+            for ch in range(c):
+                acc[j, ch] += F[ch, q]
+            cover[j] += 1
+    else:
+        WS, X0, Y0 = ascr
+        area_batch(img, LU, LV, LBX, LBY, nb, keep, lown, acc, cover, WS, X0, Y0)
+
+
+@njit(**_H)
+def _area_linear(n, big_px, mx, my, U, V, J, kx, ky, img, use_u8, u8, sc, lin, acc, cover,
+                 ascr):  # fmt: skip
+    """Average ``mx[k] x my[k]`` area taps over the footprint of each pixel with
+    ``big_px[k]`` (wider than 2 input pixels): the pixel split ``mx x my`` along the
+    axes of ``J[:, k]`` (its footprint, input pixels per output pixel), each part an
+    area tap.
+
+    The parts are placed by the footprint's linear model on the sphere, not in the
+    chart: the centre's tangent plane, each offset turned into a point by
+    normalising, then into tap space by :func:`to_source` (next to the input's
+    poles a small footprint is a curved band in the chart). Each part's box is
+    the footprint's share, widened along the rows by the ratio of the centre's
+    ``cos(lat)`` to its own. No pull-back through the map per tap (GPUs'
+    anisotropic filtering works the same way). ``use_u8``: taps through
+    :func:`area_u8` (``u8``: the uint8 views, ``sc`` its scratch), else
+    :func:`area_batch`.
+    """
+    LU, LV, LBX, LBY, lown, keep, LX, LY, LZ = lin
+    cap = LU.shape[0]
+    nb = 0
+    for k in range(n):
+        if not big_px[k]:
+            continue
+        a = mx[k]
+        b = my[k]
+        if nb + a * b > cap:
+            to_source(LX, LY, LZ, nb, kx, ky, LU, LV)
+            _lin_flush(nb, img, use_u8, u8, sc, LU, LV, LBX, LBY, lown, acc, cover, ascr, keep)
+            nb = 0
+        # the centre and its tangent plane: east e, north t (per input pixel: ex, ny)
+        sn, cn = fsincos((U[k] + 0.5) / kx - PI)
+        sp, cp = fsincos(HALF_PI - (V[k] + 0.5) / ky)
+        px = cp * cn
+        py = cp * sn
+        pz = sp
+        ex = cp / kx
+        ny = -1.0 / ky
+        j0 = J[0, k] / a  # the footprint of one part
+        j1 = J[1, k] / b
+        j2 = J[2, k] / a
+        j3 = J[3, k] / b
+        bxc = math.sqrt(j0 * j0 + j1 * j1) * cp
+        by = math.sqrt(j2 * j2 + j3 * j3)
+        for jb in range(b):
+            ob = jb - 0.5 * (b - 1)
+            for ja in range(a):
+                oa = ja - 0.5 * (a - 1)
+                de = (j0 * oa + j1 * ob) * ex  # east and north, radians
+                dn = (j2 * oa + j3 * ob) * ny
+                x = px - de * sn - dn * sp * cn
+                y = py + de * cn - dn * sp * sn
+                z = pz + dn * cp
+                r = 1.0 / math.sqrt(x * x + y * y + z * z)
+                x *= r
+                y *= r
+                z *= r
+                LX[nb] = x
+                LY[nb] = y
+                LZ[nb] = z
+                LBX[nb] = bxc / max(math.sqrt(x * x + y * y), 1e-9)
+                LBY[nb] = by
+                lown[nb] = k
+                nb += 1
+    if nb > 0:
+        to_source(LX, LY, LZ, nb, kx, ky, LU, LV)
+        _lin_flush(nb, img, use_u8, u8, sc, LU, LV, LBX, LBY, lown, acc, cover, ascr, keep)
+
+
 # -- tiles -----------------------------------------------------------------------------------------
 @njit(**_H)
 def _layout(img, dst, ho, wo, th, tw):
@@ -1575,6 +1890,19 @@ def render_spec(
     BXc = np.empty(tw)
     BYc = np.empty(tw)
     keep = np.empty(tw, np.uint8)
+    AS = np.empty((3, tw + 1 if area else 1))
+    mxy = np.ones((2, tw), np.int64)
+    mx = mxy[0]
+    my = mxy[1]
+    big_px = np.zeros(tw, np.uint8)
+    nl = nsb if area else 1
+    lin = (np.empty(nl), np.empty(nl), np.empty(nl), np.empty(nl), np.empty(nl, np.int64),
+           np.ones(nl, np.uint8), np.empty(nl), np.empty(nl), np.empty(nl))  # fmt: skip
+    area_px = area and fast_u8  # plain pixels through the uint8 area taps
+    nau = na if area_px else 1
+    asc = (np.empty((4, nau), np.int32), np.empty((4, nau), np.int32), np.empty(nau, np.int32),
+          np.empty(nau, np.int32), np.empty((8, nau), np.uint64), np.empty(nau, np.uint32),
+          np.empty((4, nau), np.float32))  # fmt: skip
     own = np.empty(nsb, np.int64)
     sv = np.empty(nsb, np.uint8)
     mob1 = codes.shape[0] == 1 and codes[0] == STAGE_LORENTZ  # the common case, fused
@@ -1639,14 +1967,25 @@ def render_spec(
                 run_stages(codes, params, T, X, Y, Z, G, valid, w)
                 to_source(X, Y, Z, w, kx, ky, U, V)
             nsp = 0
+            nbig = 0
             if area:
-                nsp = _area_counts(U, V, valid, w, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J)
+                nsp, nbig = _area_counts(
+                    U, V, valid, w, cl, hi, wi, ho, wo, tol, cap, special, J, BXc, BYc, mx, my, AS
+                )
+                nx[:w] = 1
+                ny[:w] = 1
             elif do_aa:
                 nsp = _counts(T, G, valid, w, cl, aa_kx, aa_ky, tol, cap, uniform, nx, ny, special)
             if do_aa:
                 if jm:
                     nsp += _jump_flags(geo, vals, sa, sc, sn, i > 0, i + 1 < ho, w, cl, wo, ho,
                                        rho, jmin, nx, ny, special, area, J)  # fmt: skip
+                if area:
+                    nbig = 0
+                    for k in range(w):
+                        bp = mx[k] * my[k] > 1 and not special[k]
+                        big_px[k] = bp
+                        nbig += bp
             else:
                 for k in range(w):
                     special[k] = valid[k] == 0
@@ -1661,15 +2000,22 @@ def render_spec(
                 store_u8(res, o32, p0, obytes, p0 * c, w, c, spill)
                 if nsp == 0:
                     continue
+            elif area_px:
+                area_u8(p64, tail, big, wi, hi, c, U, V, BXc, BYc, w, res, asc, True)
+                store_u8(res, o32, p0, obytes, p0 * c, w, c, spill)
+                if nsp == 0 and nbig == 0:
+                    continue
             acc[:w] = 0.0
             cover[:w] = 0
             if area:
-                for k in range(w):
-                    BXc[k] = math.sqrt(J[0, k] * J[0, k] + J[1, k] * J[1, k])
-                    BYc[k] = math.sqrt(J[2, k] * J[2, k] + J[3, k] * J[3, k])
-                    keep[k] = special[k] == 0
-                WS, X0, Y0 = ascr
-                area_batch(img, U, V, BXc, BYc, w, keep, ident, acc, cover, WS, X0, Y0)
+                if not area_px:
+                    for k in range(w):
+                        keep[k] = special[k] == 0 and big_px[k] == 0
+                    WS, X0, Y0 = ascr
+                    area_batch(img, U, V, BXc, BYc, w, keep, ident, acc, cover, WS, X0, Y0)
+                if nbig > 0:
+                    _area_linear(w, big_px, mx, my, U, V, J, kx, ky, img, area_px, u8, asc, lin,
+                                 acc, cover, ascr)  # fmt: skip
             elif not fast_u8:
                 for k in range(w):
                     if not special[k]:
@@ -1681,6 +2027,18 @@ def render_spec(
                     codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8, area, J,
                     ascr,
                 )  # fmt: skip
+            if area:
+                for k in range(w):
+                    if special[k]:
+                        cnt = nx[k] * ny[k]
+                    elif big_px[k] or not area_px:
+                        cnt = mx[k] * my[k]
+                    else:
+                        continue
+                    finish_pixel(
+                        acc, k, cover[k], cnt, bg, dst, p0 + k, c, co, is_int, maxval, full
+                    )
+                continue
             for k in range(w):
                 if special[k] or not fast_px:
                     finish_pixel(
