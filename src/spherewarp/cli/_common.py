@@ -265,8 +265,8 @@ def render_options(func: Callable) -> Callable:
             default="auto",
             show_default=True,
             help="auto: supersample only where the map shrinks the input (by its derivative); "
-            "area: average every pixel's footprint (as heavy supersampling does, in about half "
-            "the time of 4x4); none; or N for uniform NxN.",
+            "area: average every pixel's footprint (as heavy supersampling does, in about 1/5 "
+            "of the time of 4x4); none; or N for uniform NxN.",
         ),
         click.option(
             "--threads",

@@ -1245,13 +1245,20 @@ def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, special, J, BX, B
     DV[n] = DV[n - 1]
     nsp = 0
     nbig = 0
-    r2 = 1.0 / math.sqrt(2.0)
-    fcap = np.float64(cap)
+    # float32 from here: 7 square roots a pixel, twice as many lanes as float64
+    f = np.float32
+    q32 = f(q)
+    r2 = f(1.0 / math.sqrt(2.0))
+    tol32 = f(tol)
+    fcap = f(cap)
+    one = f(1.0)
+    zero = f(0.0)
+    half = f(0.5)
     for k in range(n):
-        dul = DU[k]
-        dvl = DV[k]
-        dur = DU[k + 1]
-        dvr = DV[k + 1]
+        dul = f(DU[k])
+        dvl = f(DV[k])
+        dur = f(DU[k + 1])
+        dvr = f(DV[k + 1])
         ll = dul * dul + dvl * dvl
         lr = dur * dur + dvr * dvr
         left = ll <= lr
@@ -1259,38 +1266,34 @@ def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, special, J, BX, B
         dv = dvl if left else dvr
         # where the two agree (no jump next door), their mean: the derivative at the
         # centre rather than half a pixel off
-        near = 4.0 * min(ll, lr) >= max(ll, lr)
-        du = 0.5 * (dul + dur) if near else du
-        dv = 0.5 * (dvl + dvr) if near else dv
-        cs = CS[k]
-        j01 = -q * dv / cs
-        j21 = q * du * cs
+        near = f(4.0) * min(ll, lr) >= max(ll, lr)
+        du = half * (dul + dur) if near else du
+        dv = half * (dvl + dvr) if near else dv
+        cs = f(CS[k])
+        j01 = -q32 * dv / cs
+        j21 = q32 * du * cs
         BX[k] = math.sqrt(du * du + j01 * j01)
         BY[k] = math.sqrt(dv * dv + j21 * j21)
-        # Split along the pixel's own axes, or, where that takes fewer taps, along the
+        # Split along the pixel's own axes, or, where that takes 3x fewer taps, along the
         # principal axes of the footprint: J V with V the right singular vectors (J J^T,
         # so BX and BY, do not change), the first column the longer. A long thin
         # footprint (next to the input's poles) is then split along its length only.
-        fa = math.sqrt(du * du + dv * dv) * r2
-        fb = math.sqrt(j01 * j01 + j21 * j21) * r2
-        a = min(max(math.ceil(fa - tol), 1.0), fcap)
-        b = min(max(math.ceil(fb - tol), 1.0), fcap)
         p0 = du * du + dv * dv
         p1 = j01 * j01 + j21 * j21
+        a = min(max(np.ceil(math.sqrt(p0) * r2 - tol32), one), fcap)
+        b = min(max(np.ceil(math.sqrt(p1) * r2 - tol32), one), fcap)
         pr = du * j01 + dv * j21
         dp = p0 - p1
-        hh = math.sqrt(dp * dp + 4.0 * pr * pr)
-        c2 = dp / hh if hh > 1e-12 * (p0 + p1) else 1.0
-        ct = math.sqrt(max(0.5 + 0.5 * c2, 0.0))
-        st = math.sqrt(max(0.5 - 0.5 * c2, 0.0))
-        st = -st if pr < 0.0 else st
-        fpa = math.sqrt(max(0.5 * (p0 + p1 + hh), 0.0)) * r2
-        fpb = math.sqrt(max(0.5 * (p0 + p1 - hh), 0.0)) * r2
-        pa = min(max(math.ceil(fpa - tol), 1.0), fcap)
-        pb = min(max(math.ceil(fpb - tol), 1.0), fcap)
-        usep = 3.0 * pa * pb <= a * b
-        ct = ct if usep else 1.0
-        st = st if usep else 0.0
+        hh = math.sqrt(dp * dp + f(4.0) * pr * pr)
+        c2 = dp / hh if hh > f(1e-6) * (p0 + p1) else one
+        ct = math.sqrt(max(half + half * c2, zero))
+        st = math.sqrt(max(half - half * c2, zero))
+        st = -st if pr < zero else st
+        pa = min(max(np.ceil(math.sqrt(max(half * (p0 + p1 + hh), zero)) * r2 - tol32), one), fcap)
+        pb = min(max(np.ceil(math.sqrt(max(half * (p0 + p1 - hh), zero)) * r2 - tol32), one), fcap)
+        usep = f(3.0) * pa * pb <= a * b
+        ct = ct if usep else one
+        st = st if usep else zero
         a = pa if usep else a
         b = pb if usep else b
         J[0, k] = du * ct + j01 * st
@@ -1302,7 +1305,7 @@ def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, special, J, BX, B
         bad = np.int64(valid[k] == 0)
         special[k] = bad
         nsp += bad
-        nbig += (1 - bad) * np.int64(a * b > 1.0)
+        nbig += (1 - bad) * np.int64(a * b > one)
     return nsp, nbig
 
 
@@ -1627,6 +1630,10 @@ def _area_gather_slow(p64, tail, big, w_in, h_in, c, x0, y0, Q, k):
         xs = x0 + sh
         if xs < 0 or xs >= w_in:
             xs %= w_in
+        if xs + 3 < w_in and base + xs + 2 < big:  # this row is four neighbours
+            Q[2 * j, k] = p64[base + xs]
+            Q[2 * j + 1, k] = p64[base + xs + 2]
+            continue
         for m in range(2):
             q = np.uint64(0)
             for t in range(2):
