@@ -231,7 +231,7 @@ def bench_rotation(width: int, threads_list: list[int], repeat: int, numpy_ref: 
     # zoom by 8 on the fly: anti-aliasing costs
     z = Mobius.zoom((0.0, 0.0), 8.0)
     for t in threads_list:
-        for label, aa in (("none", "none"), ("auto", "auto"), ("uniform 4x4", 4)):
+        for label, aa in (("none", "none"), ("auto", "auto"), ("area", "area"), ("uniform 4x4", 4)):
             row("zoom8", f"spherewarp zoom x8, antialias {label}", size, t, measure(
                 lambda aa=aa: warp(img, z.inverse(), antialias=aa, threads=t),
                 max(1, repeat // (4 if aa == 4 else 1)), memory=mem))  # fmt: skip
@@ -239,6 +239,8 @@ def bench_rotation(width: int, threads_list: list[int], repeat: int, numpy_ref: 
             lambda: warp(img, m, antialias="auto", threads=t), repeat))  # fmt: skip
         row("zoom8", "spherewarp rotation, antialias none", size, t, measure(
             lambda: warp(img, m, antialias="none", threads=t), repeat))  # fmt: skip
+        row("zoom8", "spherewarp rotation, antialias area", size, t, measure(
+            lambda: warp(img, m, antialias="area", threads=t), repeat))  # fmt: skip
 
 
 def effect_maps() -> dict[str, Any]:
@@ -526,6 +528,19 @@ def summary() -> list[str]:
             n = get("zoom8", "spherewarp rotation, antialias none", size, t)
             if a and n:
                 lines.append(f"{size} t={t}: rotation AA auto / none = {a / n:.2f} (target <= 1.5)")
+            ar = get("zoom8", "spherewarp rotation, antialias area", size, t)
+            if ar and n:
+                lines.append(f"{size} t={t}: rotation AA area / none = {ar / n:.2f}")
+            z = {
+                k: get("zoom8", f"spherewarp zoom x8, antialias {k}", size, t)
+                for k in ("none", "auto", "area", "uniform 4x4")
+            }
+            if all(z.values()):
+                lines.append(
+                    f"{size} t={t}: zoom x8 auto / 4x4 = {z['auto'] / z['uniform 4x4']:.2f}, "
+                    f"area / 4x4 = {z['area'] / z['uniform 4x4']:.2f}, "
+                    f"area / none = {z['area'] / z['none']:.2f}"
+                )
     aa = [r for r in ROWS if r["group"] == "antialias"]
     for name in dict.fromkeys(r["case"].split(":")[0] for r in aa):
         res = {r["case"].split(": ")[1]: r for r in aa if r["case"].startswith(name + ":")}
