@@ -1550,6 +1550,97 @@ def store_u8(res, o32, p0, obytes, b0, n, c, spill):
             obytes[b0 + k * c + ch] = np.uint8((r >> np.uint32(8 * ch)) & np.uint32(255))
 
 
+# -- float32 bilinear: vectorised taps and blend ------------------------------------------------
+@njit(**_V)
+def taps_f32(u, v, n, w_in, h_in, I, TX, TY):
+    """Bilinear taps of tap-space ``(u, v)`` for a float32 image (vectorised): the flat
+    pixel indices ``I[0:4]`` (top-left, top-right, bottom-left, bottom-right; wrapped
+    round the seam, folded over the poles as :func:`acc_sample`) and the weights
+    ``TX, TY`` of the right and lower taps."""
+    W = np.int64(w_in)
+    H = np.int64(h_in)
+    half = W // 2
+    for k in range(n):
+        xf = math.floor(u[k])
+        yf = math.floor(v[k])
+        TX[k] = np.float32(u[k] - xf)
+        TY[k] = np.float32(v[k] - yf)
+        x0 = np.int64(xf)
+        y0 = np.int64(yf)
+        x0 = x0 + W if x0 < 0 else x0
+        x0 = x0 - W if x0 >= W else x0
+        x1 = x0 + 1
+        x1 = x1 - W if x1 >= W else x1
+        top = y0 < 0  # row -1: row 0, half a turn round
+        bot = y0 + 1 >= H  # row H: row H - 1, half a turn round
+        ya = 0 if top else min(y0, H - 1)
+        yb = H - 1 if bot else y0 + 1
+        sa = half if top else 0
+        sb = half if bot else 0
+        xa0 = x0 + sa
+        xa0 = xa0 - W if xa0 >= W else xa0
+        xa1 = x1 + sa
+        xa1 = xa1 - W if xa1 >= W else xa1
+        xb0 = x0 + sb
+        xb0 = xb0 - W if xb0 >= W else xb0
+        xb1 = x1 + sb
+        xb1 = xb1 - W if xb1 >= W else xb1
+        I[0, k] = ya * W + xa0
+        I[1, k] = ya * W + xa1
+        I[2, k] = yb * W + xb0
+        I[3, k] = yb * W + xb1
+
+
+@njit(**_V)
+def cached_taps_f32(oa, wt, n, w_in, I, TX, TY):
+    """:func:`taps_f32` from a cached map's top-left taps and 8.8 weights (see
+    :func:`taps_u8`; pixels whose taps fold over a pole are not among them)."""
+    W = np.int64(w_in)
+    inv = np.float32(1.0 / 256.0)
+    for k in range(n):
+        a = np.int64(oa[k] & _LOW31)
+        x = a % W
+        r = np.int64(1) if x != W - 1 else np.int64(1) - W  # the right neighbour, or wrapped
+        I[0, k] = a
+        I[1, k] = a + r
+        I[2, k] = a + W
+        I[3, k] = a + W + r
+        ww = np.int32(wt[k])
+        TX[k] = np.float32(ww & 255) * inv
+        TY[k] = np.float32(ww >> 8) * inv
+
+
+@njit(inline="always", **_H)
+def _blend_f32_c(f, I, TX, TY, out, o0, n, c):
+    one = np.float32(1.0)
+    for k in range(n):
+        tx = TX[k]
+        ty = TY[k]
+        i0 = I[0, k] * c
+        i1 = I[1, k] * c
+        i2 = I[2, k] * c
+        i3 = I[3, k] * c
+        q = o0 + k * c
+        for ch in range(c):
+            top = (one - tx) * f[i0 + ch] + tx * f[i1 + ch]
+            bot = (one - tx) * f[i2 + ch] + tx * f[i3 + ch]
+            out[q + ch] = (one - ty) * top + ty * bot
+
+
+@njit(**_H)
+def blend_f32(f, I, TX, TY, out, o0, n, c):
+    """The bilinear blend of :func:`taps_f32` from the flat float32 image ``f`` into the
+    flat float32 output ``out`` from value ``o0`` (one branch per channel count)."""
+    if c == 3:
+        _blend_f32_c(f, I, TX, TY, out, o0, n, 3)
+    elif c == 4:
+        _blend_f32_c(f, I, TX, TY, out, o0, n, 4)
+    elif c == 1:
+        _blend_f32_c(f, I, TX, TY, out, o0, n, 1)
+    else:
+        _blend_f32_c(f, I, TX, TY, out, o0, n, c)
+
+
 # -- uint8 area taps: 4 x 4 fixed-point weights of tent * box ------------------------------------
 @njit(inline="always", **_H)
 def _ramp_integral(t):
@@ -1839,7 +1930,7 @@ def _tile(t, ntx, th, tw, ho, wo):
 
 @njit(**_P)
 def render_spec(
-    img, p64, tail, big, o32, dst, ho, wo, co, fast_u8,
+    img, p64, tail, big, o32, dst, ho, wo, co, fast_u8, fast_f32, fimg,
     codes, params, ccos, csin, tabs, kx, ky,
     do_aa, aa_kx, aa_ky, tol, cap, uniform, jumps, rho, jmin, area,
     interp, bg, is_int, maxval, full, th, tw, wk, nw,
@@ -1850,7 +1941,8 @@ def render_spec(
     type, so that one compiled kernel serves them all; see
     ``fast._image_bundle``). ``fast_u8``: uint8 bilinear through the
     two-taps-a-load path (``p64``, ``tail``, ``o32`` are the unaligned views);
-    otherwise the float32 sampler. ``do_aa``: compute samples per pixel
+    ``fast_f32``: float32 bilinear through vectorised taps (``fimg``: the image,
+    flat); otherwise the scalar float32 sampler. ``do_aa``: compute samples per pixel
     (``uniform > 0``: that many per axis; else adaptive from the magnification).
     ``jumps``: in adaptive mode, also give pixels on a jump of the map (a seam
     between neighbouring pixels' source points, see :func:`_jump_flags`; ``rho``
@@ -1918,6 +2010,11 @@ def render_spec(
     # jump mode: rows above / current / below (slots rotate), each w + 2 columns
     jm = jumps and do_aa and uniform == 0 and not mob1
     fast_px = fast_u8 and not area  # centre taps through the uint8 bilinear path
+    fast_fpx = fast_f32 and not area  # centre taps through the float32 bilinear path
+    direct = fast_px or fast_fpx  # centre taps written straight to the output
+    nf = tw if fast_f32 else 1
+    fI = np.empty((4, nf), np.int64)
+    fT = np.empty((2, nf), np.float32)
     tw2 = tw + 2 if jm else 1
     geo = np.empty((3, 4, tw2))
     vals = np.empty((3, tw2), np.uint8)
@@ -2007,6 +2104,11 @@ def render_spec(
                 store_u8(res, o32, p0, obytes, p0 * c, w, c, spill)
                 if nsp == 0:
                     continue
+            elif fast_fpx:
+                taps_f32(U, V, w, wi, hi, fI, fT[0], fT[1])
+                blend_f32(fimg, fI, fT[0], fT[1], dst[2], p0 * c, w, c)
+                if nsp == 0:
+                    continue
             elif area_px:
                 area_u8(p64, tail, big, wi, hi, c, U, V, BXc, BYc, w, res, asc, True)
                 store_u8(res, o32, p0, obytes, p0 * c, w, c, spill)
@@ -2023,7 +2125,7 @@ def render_spec(
                 if nbig > 0:
                     _area_linear(w, big_px, mx, my, U, V, J, kx, ky, img, area_px, u8, asc, lin,
                                  acc, cover, ascr)  # fmt: skip
-            elif not fast_u8:
+            elif not direct:
                 for k in range(w):
                     if not special[k]:
                         acc_sample(img, U[k], V[k], interp, acc, k)
@@ -2047,7 +2149,7 @@ def render_spec(
                     )
                 continue
             for k in range(w):
-                if special[k] or not fast_px:
+                if special[k] or not direct:
                     finish_pixel(
                         acc, k, cover[k], nx[k] * ny[k], bg, dst, p0 + k, c, co,
                         is_int, maxval, full,
@@ -2137,15 +2239,18 @@ def sample_csr(img, u, v, valid, start, interp, bg, dst, co, p0, is_int, maxval,
 
 @njit(**_P)
 def apply_cache(
-    img, p64, tail, big, o32, dst, ho, wo, co, fast_u8, oa, wt, th, tw,
+    img, p64, tail, big, o32, dst, ho, wo, co, fast_u8, fast_f32, fimg, oa, wt, th, tw,
     sp_pix, sp_start, sp_u, sp_v, sp_valid, sp_tile, interp, bg, is_int, maxval, full, wk, nw,
 ):  # fmt: skip
     """Apply a cached map: the top-left tap and weights of each pixel (tile-major,
     see :func:`taps_u8`; the lower taps are ``wi`` pixels further on; none for a
     map whose pixels are all special), then the special pixels (anti-aliased,
     partly undefined, folded over a pole, or not bilinear) from their sample
-    lists."""
+    lists. ``fast_f32``: a float32 image (``fimg``, flat) through vectorised taps."""
     wi, c, obytes, ntx, ntiles, big_w, shift, lom, spill = _layout(img, dst, ho, wo, th, tw)
+    nf = tw if fast_f32 else 1
+    fI = np.empty((4, nf), np.int64)
+    fT = np.empty((2, nf), np.float32)
     one = np.float32(1.0)
     inv = one / np.float32(256.0)
     qs = np.empty((2, tw), np.uint64)
@@ -2165,6 +2270,9 @@ def apply_cache(
                 gather_u8_cached(p64, tail, big, big_w, shift, lom, oa[o : o + w], qa, qb, w)
                 blend_u8(qa, qb, wt[o : o + w], res, w, c)
                 store_u8(res, o32, p0, obytes, p0 * c, w, c, spill)
+            elif fast_f32 and oa.shape[0] > 0:
+                cached_taps_f32(oa[o : o + w], wt[o : o + w], w, wi, fI, fT[0], fT[1])
+                blend_f32(fimg, fI, fT[0], fT[1], dst[2], p0 * c, w, c)
             elif oa.shape[0] > 0:
                 for k in range(w):
                     a = np.int64(oa[o + k] & _LOW31)

@@ -394,11 +394,18 @@ class WarpMap:
             p64, tail, big, o32 = fast._u8_views(img, out)
         else:
             p64, tail, big, o32 = fast._DUMMY64, fast._DUMMY64, 0, fast._DUMMY32
+        fast_f = (
+            img.dtype == np.float32
+            and self.interp == "bilinear"
+            and out.shape[2] == img.shape[2]
+            and self._oa.size > 0
+        )
+        fimg = fast._readonly(fast._native(img).reshape(-1)) if fast_f else fast._DUMMY_F32
         is_int, maxval, full = fast._value_params(img.dtype)
         th, tw = fast.TILE
         args = (
             fast._image_bundle(img), p64, tail, big, o32, fast._output_bundle(out),
-            *out.shape, fast_u8, self._oa, self._wt, th, tw,
+            *out.shape, fast_u8, fast_f, fimg, self._oa, self._wt, th, tw,
             self._sp_pix, self._sp_start, self._sp_u, self._sp_v, self._sp_valid,
             self._sp_tile, fast.INTERP_CODES[self.interp], bg, is_int, maxval, full,
         )  # fmt: skip

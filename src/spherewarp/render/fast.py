@@ -353,6 +353,7 @@ def _readonly(a: NDArray) -> NDArray:
 _SAMPLE_TYPES = (np.uint8, np.uint16, np.float32, np.float64)
 _DUMMY_IMAGES = tuple(_readonly(np.zeros((1, 1, 1), t)) for t in _SAMPLE_TYPES)
 _DUMMY_FLATS = tuple(np.zeros(1, t) for t in _SAMPLE_TYPES)
+_DUMMY_F32 = _readonly(np.zeros(1, np.float32))
 
 
 def _image_bundle(src: NDArray) -> tuple[Any, ...]:
@@ -482,10 +483,12 @@ def render_spec(
         p64, tail, big, o32 = _u8_views(src, out)
     else:
         p64, tail, big, o32 = _DUMMY64, _DUMMY64, 0, _DUMMY32
+    fast_f = src.dtype == np.float32 and interp == "bilinear" and out.shape[2] == src.shape[2]
+    fimg = _readonly(src.reshape(-1)) if fast_f else _DUMMY_F32
     th, tw = TILE
     args = (
         _image_bundle(src), p64, tail, big, o32, _output_bundle(out), h_out, w_out, out.shape[2],
-        fast, spec.codes, spec.params, ccos, csin, tabs, kx, ky,
+        fast, fast_f, fimg, spec.codes, spec.params, ccos, csin, tabs, kx, ky,
         do_aa, aa_kx, aa_ky, tol, cap, uniform, jumps, rho_in, _aa.JUMP_SAMPLES, area,
         INTERP_CODES[interp], np.asarray(background, np.float32), is_int, maxval, full,
         th, tw,
