@@ -408,6 +408,7 @@ def _fast_u8_ok(src: NDArray, out: NDArray, interp: str) -> bool:
         and out.shape[2] == src.shape[2]
         and src.size >= 64
         and out.shape[0] * out.shape[1] >= 2
+        and out.size >= 4  # one 4-byte store (a 1 x 2 grey output has 2 bytes)
     )
 
 
