@@ -1836,6 +1836,17 @@ def _lin_flush(nb, img, use_u8, u8, sc, LU, LV, LBX, LBY, lown, acc, cover, ascr
         area_batch(img, LU, LV, LBX, LBY, nb, keep, lown, acc, cover, WS, X0, Y0)
 
 
+@njit(**_V)
+def _lin_widths(X, Y, Z, BX, n):
+    """Widen the parts' boxes along the rows by ``1 / cos(lat)`` of their (not normalised)
+    points, vectorised (:func:`to_source` does not need them normalised)."""
+    for k in range(n):
+        x = X[k]
+        y = Y[k]
+        h2 = x * x + y * y
+        BX[k] = BX[k] * math.sqrt((h2 + Z[k] * Z[k]) / max(h2, 1e-18))
+
+
 @njit(**_H)
 def _area_linear(n, big_px, mx, my, U, V, J, kx, ky, img, use_u8, u8, sc, lin, acc, cover,
                  ascr):  # fmt: skip
@@ -1863,6 +1874,7 @@ def _area_linear(n, big_px, mx, my, U, V, J, kx, ky, img, use_u8, u8, sc, lin, a
         a = mx[k]
         b = my[k]
         if nb + a * b > cap:
+            _lin_widths(LX, LY, LZ, LBX, nb)
             to_source(LX, LY, LZ, nb, kx, ky, LU, LV)
             _lin_flush(nb, img, use_u8, u8, sc, LU, LV, LBX, LBY, lown, acc, cover, ascr, keep)
             nb = 0
@@ -1886,21 +1898,15 @@ def _area_linear(n, big_px, mx, my, U, V, J, kx, ky, img, use_u8, u8, sc, lin, a
                 oa = ja - 0.5 * (a - 1)
                 de = (j0 * oa + j1 * ob) * ex  # east and north, radians
                 dn = (j2 * oa + j3 * ob) * ny
-                x = px - de * sn - dn * sp * cn
-                y = py + de * cn - dn * sp * sn
-                z = pz + dn * cp
-                r = 1.0 / math.sqrt(x * x + y * y + z * z)
-                x *= r
-                y *= r
-                z *= r
-                LX[nb] = x
-                LY[nb] = y
-                LZ[nb] = z
-                LBX[nb] = bxc / max(math.sqrt(x * x + y * y), 1e-9)
+                LX[nb] = px - de * sn - dn * sp * cn  # not normalised: see _lin_widths
+                LY[nb] = py + de * cn - dn * sp * sn
+                LZ[nb] = pz + dn * cp
+                LBX[nb] = bxc
                 LBY[nb] = by
                 lown[nb] = k
                 nb += 1
     if nb > 0:
+        _lin_widths(LX, LY, LZ, LBX, nb)
         to_source(LX, LY, LZ, nb, kx, ky, LU, LV)
         _lin_flush(nb, img, use_u8, u8, sc, LU, LV, LBX, LBY, lown, acc, cover, ascr, keep)
 
