@@ -191,25 +191,37 @@ def test_area_of_the_identity_is_the_one_pixel_box():
 
 @needs_jit
 @pytest.mark.parametrize(
-    ("m", "slack"),
-    [
-        (Mobius.zoom((20.0, 10.0), 4.0).inverse(), 0.5),
-        (Mobius.from_yaw_pitch_roll(30, 20, 10), 1.0),
-    ],
+    "m", [Mobius.zoom((20.0, 10.0), 4.0).inverse(), Mobius.from_yaw_pitch_roll(30, 20, 10)]
 )
-def test_area_matches_heavy_supersampling(m, slack):
-    """Against 12 x 12 supersampling of a photograph, the area filter does about as well
-    as 4 x 4 (the zoom: to 0.5 dB) and far better than one bilinear tap. On a rotation
-    it may be up to 1 dB behind: its box is aligned with the input's axes, and a
-    footprint that is sheared there (away from the equators) is not."""
+def test_area_matches_heavy_supersampling(m):
+    """Against 12 x 12 supersampling of a photograph, the area filter does as well as
+    4 x 4 (to 0.5 dB) and far better than one bilinear tap."""
     from spherewarp.demo import sample_path
     from spherewarp.io import read_image
 
     img = np.ascontiguousarray(read_image(sample_path()).pixels[::4, ::4])  # 128 x 256
     ref = warp(img, m, antialias=12)
     area = _psnr(warp(img, m, antialias="area"), ref)
-    assert area >= _psnr(warp(img, m, antialias=4), ref) - slack
+    assert area >= _psnr(warp(img, m, antialias=4), ref) - 0.5
     assert area >= _psnr(warp(img, m, antialias="none"), ref) + 10.0
+
+
+@needs_jit
+def test_area_follows_the_map_inside_large_footprints():
+    """A Droste map rendered at half the input's size: footprints of several input
+    pixels, over which the map bends (round the centre, along the seams). Their parts
+    are pulled back through the map, not placed by a linear model of the footprint
+    (which lost 8 dB here): within 1 dB of 4 x 4 against 12 x 12."""
+    from spherewarp.demo import sample_path
+    from spherewarp.droste import droste_map, hole_from_radius
+    from spherewarp.io import read_image
+
+    img = np.ascontiguousarray(read_image(sample_path()).pixels[::4, ::4])  # 128 x 256
+    m = droste_map(hole_from_radius((0, 0), 25), 3.0)
+    kw = {"output_shape": (64, 128)}
+    ref = warp(img, m, antialias=12, **kw)
+    area = _psnr(warp(img, m, antialias="area", **kw), ref)
+    assert area >= _psnr(warp(img, m, antialias=4, **kw), ref) - 1.0
 
 
 @needs_jit

@@ -1199,25 +1199,27 @@ def area_batch(img, U, V, BX, BY, n, keep, own, acc, cover, WS, X0, Y0):
 
 
 @njit(**_V)
-def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, special, J, BX, BY, mx, my, S):
-    """Footprints (``J``) and samples per pixel of ``antialias="area"``; returns the
-    number of special pixels.
+def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BX, BY, S):
+    """Footprints (``J``, boxes ``BX x BY``) and samples per pixel of
+    ``antialias="area"``; returns the number of special pixels.
 
     The footprint of pixel ``k`` in the input's chart is the Jacobian ``J[:, k] =
     (du/dx, du/dy, dv/dx, dv/dy)`` (input pixels per output pixel). Its first
-    column is a one-sided difference of the source coordinates along the row (the
-    shorter of the two, so that a jump next door does not count); the second
-    follows from it because the map is conformal: on the sphere the image of the
-    output's north step is the image of its east step turned by a right angle and
-    scaled by their ratio ``q`` (``cos(lat_src)`` converts between the chart and the
-    sphere). The footprint's box in the input is ``BX x BY`` (the lengths of the rows
-    of ``J``: a box with the footprint's second moments). A pixel gets
-    ``ceil(L / sqrt 2)`` taps along each of its axes (``L`` the length of that column
-    of ``J``, at most ``cap``), so that each tap's box is at most two input pixels
-    wide, the area tap's limit (:func:`_area_linear`). A chunk of one pixel has no
-    neighbour to difference with: it gets a plain bilinear tap. Returns how many
-    pixels are undefined (``special``) and how many need several taps. ``S``: scratch,
-    ``(3, >= n + 1)``.
+    column is a difference of the source coordinates along the row: the mean of
+    the left and right ones where they agree, else the shorter (so that a jump
+    next door does not count); the second follows from it because the map is
+    conformal: on the sphere the image of the output's north step is the image of
+    its east step turned by a right angle and scaled by their ratio ``q``
+    (``cos(lat_src)`` converts between the chart and the sphere). The footprint's
+    box in the input is ``BX x BY``, the lengths of the rows of ``J`` (a box with
+    the footprint's second moments): one area tap (:func:`area_u8`,
+    :func:`area_batch`) where each side is at most 2 input pixels. A pixel whose
+    footprint is longer gets ``ceil(L / sqrt 2)`` samples along each of its axes
+    (``L`` the length of that column of ``J``, at most ``cap``), each pulled back
+    through the map and an area tap over its share of the footprint
+    (:func:`_subsamples`): it is ``special``, as an undefined pixel is. A chunk of
+    one pixel has no neighbour to difference with: it gets a plain bilinear tap.
+    ``S``: scratch, ``(3, >= n + 1)``.
     """
     q = wo / (2.0 * ho * cl)
     half = 0.5 * wi
@@ -1226,8 +1228,8 @@ def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, special, J, BX, B
     DU = S[1]
     DV = S[2]
     # vectorised passes: cos(lat) of the source points, the differences to the left
-    # neighbour (wrapped round the seam), then per pixel the shorter of its left and
-    # right differences
+    # neighbour (wrapped round the seam), then per pixel (in float32: 5 square roots
+    # a pixel, twice the lanes of float64)
     for k in range(n):
         CS[k] = max(fsincos(kv * (V[k] + 0.5))[0], 1e-9)
     for k in range(1, n):
@@ -1244,16 +1246,13 @@ def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, special, J, BX, B
     DU[n] = DU[n - 1]
     DV[n] = DV[n - 1]
     nsp = 0
-    nbig = 0
-    # float32 from here: 7 square roots a pixel, twice as many lanes as float64
     f = np.float32
     q32 = f(q)
     r2 = f(1.0 / math.sqrt(2.0))
     tol32 = f(tol)
     fcap = f(cap)
     one = f(1.0)
-    zero = f(0.0)
-    half = f(0.5)
+    half32 = f(0.5)
     for k in range(n):
         dul = f(DU[k])
         dvl = f(DV[k])
@@ -1264,55 +1263,32 @@ def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, special, J, BX, B
         left = ll <= lr
         du = dul if left else dur
         dv = dvl if left else dvr
-        # where the two agree (no jump next door), their mean: the derivative at the
-        # centre rather than half a pixel off
-        near = f(4.0) * min(ll, lr) >= max(ll, lr)
-        du = half * (dul + dur) if near else du
-        dv = half * (dvl + dvr) if near else dv
+        near = f(4.0) * min(ll, lr) >= max(ll, lr)  # no jump next door: the centre's
+        du = half32 * (dul + dur) if near else du
+        dv = half32 * (dvl + dvr) if near else dv
         cs = f(CS[k])
         j01 = -q32 * dv / cs
         j21 = q32 * du * cs
+        J[0, k] = du
+        J[1, k] = j01
+        J[2, k] = dv
+        J[3, k] = j21
         BX[k] = math.sqrt(du * du + j01 * j01)
         BY[k] = math.sqrt(dv * dv + j21 * j21)
-        # Split along the pixel's own axes, or, where that takes 3x fewer taps, along the
-        # principal axes of the footprint: J V with V the right singular vectors (J J^T,
-        # so BX and BY, do not change), the first column the longer. A long thin
-        # footprint (next to the input's poles) is then split along its length only.
-        p0 = du * du + dv * dv
-        p1 = j01 * j01 + j21 * j21
-        a = min(max(np.ceil(math.sqrt(p0) * r2 - tol32), one), fcap)
-        b = min(max(np.ceil(math.sqrt(p1) * r2 - tol32), one), fcap)
-        pr = du * j01 + dv * j21
-        dp = p0 - p1
-        hh = math.sqrt(dp * dp + f(4.0) * pr * pr)
-        c2 = dp / hh if hh > f(1e-6) * (p0 + p1) else one
-        ct = math.sqrt(max(half + half * c2, zero))
-        st = math.sqrt(max(half - half * c2, zero))
-        st = -st if pr < zero else st
-        pa = min(max(np.ceil(math.sqrt(max(half * (p0 + p1 + hh), zero)) * r2 - tol32), one), fcap)
-        pb = min(max(np.ceil(math.sqrt(max(half * (p0 + p1 - hh), zero)) * r2 - tol32), one), fcap)
-        usep = f(3.0) * pa * pb <= a * b
-        ct = ct if usep else one
-        st = st if usep else zero
-        a = pa if usep else a
-        b = pb if usep else b
-        J[0, k] = du * ct + j01 * st
-        J[1, k] = j01 * ct - du * st
-        J[2, k] = dv * ct + j21 * st
-        J[3, k] = j21 * ct - dv * st
-        mx[k] = np.int64(a)
-        my[k] = np.int64(b)
-        bad = np.int64(valid[k] == 0)
-        special[k] = bad
-        nsp += bad
-        nbig += (1 - bad) * np.int64(a * b > one)
-    return nsp, nbig
+        a = min(max(np.ceil(math.sqrt(du * du + dv * dv) * r2 - tol32), one), fcap)
+        b = min(max(np.ceil(math.sqrt(j01 * j01 + j21 * j21) * r2 - tol32), one), fcap)
+        nx[k] = np.int64(a)
+        ny[k] = np.int64(b)
+        sp = np.int64((valid[k] == 0) or (a * b > one))
+        special[k] = sp
+        nsp += sp
+    return nsp
 
 
 @njit(**_H)
 def _subsamples(
     k0, n, special, nx, ny, cl, sl, cc, cs, tabs,
-    codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8, area, J, ascr,
+    codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8, area, J, ascr, asc,
 ):  # fmt: skip
     """Supersample the special pixels of a chunk into ``acc``/``cover``.
 
@@ -1321,8 +1297,8 @@ def _subsamples(
     subsample ``m`` of ``n``), so no trigonometry per subsample either.
     ``u8`` bundles the uint8 fast path's views and batch buffers (its first
     item says whether to use it). With ``area``, each subsample is an area tap
-    (:func:`area_batch`, scratch ``ascr``) over its share of the pixel's
-    footprint ``J[:, k]``.
+    over its share of the pixel's footprint ``J[:, k]``: :func:`area_u8` for uint8
+    images (scratch ``asc``), else :func:`area_batch` (scratch ``ascr``).
     """
     ST = bufs[0]
     SX = bufs[1]
@@ -1342,9 +1318,8 @@ def _subsamples(
         a = nx[k]
         b = ny[k]
         if nb + a * b > SUB_BATCH:
-            _flush(
-                nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8, area, ascr
-            )
+            _flush(nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8, area,
+                   ascr, asc)  # fmt: skip
             nb = 0
         bxs = 0.0
         bys = 0.0
@@ -1370,11 +1345,13 @@ def _subsamples(
                 SBY[nb] = bys
                 nb += 1
     if nb > 0:
-        _flush(nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8, area, ascr)
+        _flush(nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8, area, ascr,
+               asc)  # fmt: skip
 
 
 @njit(**_H)
-def _flush(nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8, area, ascr):
+def _flush(nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8, area, ascr,
+           asc):  # fmt: skip
     ST = bufs[0]
     SX = bufs[1]
     SY = bufs[2]
@@ -1384,6 +1361,18 @@ def _flush(nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8
     SV = bufs[6]
     run_stages(codes, params, ST, SX, SY, SZ, SG, sv, nb)
     to_source(SX, SY, SZ, nb, kx, ky, SU, SV)
+    if area and u8[0]:
+        c = img[7]
+        area_u8(u8[1], u8[2], u8[3], img[6], img[5], c, SU, SV, bufs[7], bufs[8], nb, asc[5], asc,
+                False)  # fmt: skip
+        F = asc[6]
+        for q in range(nb):
+            if sv[q]:
+                j = own[q]
+                for ch in range(c):
+                    acc[j, ch] += F[ch, q]
+                cover[j] += 1
+        return
     if area:
         WS, X0, Y0 = ascr
         area_batch(img, SU, SV, bufs[7], bufs[8], nb, sv, own, acc, cover, WS, X0, Y0)
@@ -1820,97 +1809,6 @@ def area_u8(p64, tail, big, w_in, h_in, c, U, V, BX, BY, n, res, sc, packed):
     area_blend_u8(Q, WX, WY, res, F, n, c, packed)
 
 
-@njit(**_H)
-def _lin_flush(nb, img, use_u8, u8, sc, LU, LV, LBX, LBY, lown, acc, cover, ascr, keep):
-    if use_u8:
-        F = sc[6]
-        c = img[7]
-        area_u8(u8[1], u8[2], u8[3], img[6], img[5], c, LU, LV, LBX, LBY, nb, sc[5], sc, False)
-        for q in range(nb):
-            j = lown[q]
-            for ch in range(c):
-                acc[j, ch] += F[ch, q]
-            cover[j] += 1
-    else:
-        WS, X0, Y0 = ascr
-        area_batch(img, LU, LV, LBX, LBY, nb, keep, lown, acc, cover, WS, X0, Y0)
-
-
-@njit(**_V)
-def _lin_widths(X, Y, Z, BX, n):
-    """Widen the parts' boxes along the rows by ``1 / cos(lat)`` of their (not normalised)
-    points, vectorised (:func:`to_source` does not need them normalised)."""
-    for k in range(n):
-        x = X[k]
-        y = Y[k]
-        h2 = x * x + y * y
-        BX[k] = BX[k] * math.sqrt((h2 + Z[k] * Z[k]) / max(h2, 1e-18))
-
-
-@njit(**_H)
-def _area_linear(n, big_px, mx, my, U, V, J, kx, ky, img, use_u8, u8, sc, lin, acc, cover,
-                 ascr):  # fmt: skip
-    """Average ``mx[k] x my[k]`` area taps over the footprint of each pixel with
-    ``big_px[k]`` (wider than 2 input pixels): the pixel split ``mx x my`` along the
-    axes of ``J[:, k]`` (its footprint, input pixels per output pixel), each part an
-    area tap.
-
-    The parts are placed by the footprint's linear model on the sphere, not in the
-    chart: the centre's tangent plane, each offset turned into a point by
-    normalising, then into tap space by :func:`to_source` (next to the input's
-    poles a small footprint is a curved band in the chart). Each part's box is
-    the footprint's share, widened along the rows by the ratio of the centre's
-    ``cos(lat)`` to its own. No pull-back through the map per tap (GPUs'
-    anisotropic filtering works the same way). ``use_u8``: taps through
-    :func:`area_u8` (``u8``: the uint8 views, ``sc`` its scratch), else
-    :func:`area_batch`.
-    """
-    LU, LV, LBX, LBY, lown, keep, LX, LY, LZ = lin
-    cap = LU.shape[0]
-    nb = 0
-    for k in range(n):
-        if not big_px[k]:
-            continue
-        a = mx[k]
-        b = my[k]
-        if nb + a * b > cap:
-            _lin_widths(LX, LY, LZ, LBX, nb)
-            to_source(LX, LY, LZ, nb, kx, ky, LU, LV)
-            _lin_flush(nb, img, use_u8, u8, sc, LU, LV, LBX, LBY, lown, acc, cover, ascr, keep)
-            nb = 0
-        # the centre and its tangent plane: east e, north t (per input pixel: ex, ny)
-        sn, cn = fsincos((U[k] + 0.5) / kx - PI)
-        sp, cp = fsincos(HALF_PI - (V[k] + 0.5) / ky)
-        px = cp * cn
-        py = cp * sn
-        pz = sp
-        ex = cp / kx
-        ny = -1.0 / ky
-        j0 = J[0, k] / a  # the footprint of one part
-        j1 = J[1, k] / b
-        j2 = J[2, k] / a
-        j3 = J[3, k] / b
-        bxc = math.sqrt(j0 * j0 + j1 * j1) * cp
-        by = math.sqrt(j2 * j2 + j3 * j3)
-        for jb in range(b):
-            ob = jb - 0.5 * (b - 1)
-            for ja in range(a):
-                oa = ja - 0.5 * (a - 1)
-                de = (j0 * oa + j1 * ob) * ex  # east and north, radians
-                dn = (j2 * oa + j3 * ob) * ny
-                LX[nb] = px - de * sn - dn * sp * cn  # not normalised: see _lin_widths
-                LY[nb] = py + de * cn - dn * sp * sn
-                LZ[nb] = pz + dn * cp
-                LBX[nb] = bxc
-                LBY[nb] = by
-                lown[nb] = k
-                nb += 1
-    if nb > 0:
-        _lin_widths(LX, LY, LZ, LBX, nb)
-        to_source(LX, LY, LZ, nb, kx, ky, LU, LV)
-        _lin_flush(nb, img, use_u8, u8, sc, LU, LV, LBX, LBY, lown, acc, cover, ascr, keep)
-
-
 # -- tiles -----------------------------------------------------------------------------------------
 @njit(**_H)
 def _layout(img, dst, ho, wo, th, tw):
@@ -1996,14 +1894,7 @@ def render_spec(
     BYc = np.empty(tw)
     keep = np.empty(tw, np.uint8)
     AS = np.empty((3, tw + 1 if area else 1))
-    mxy = np.ones((2, tw), np.int64)
-    mx = mxy[0]
-    my = mxy[1]
-    big_px = np.zeros(tw, np.uint8)
-    nl = nsb if area else 1
-    lin = (np.empty(nl), np.empty(nl), np.empty(nl), np.empty(nl), np.empty(nl, np.int64),
-           np.ones(nl, np.uint8), np.empty(nl), np.empty(nl), np.empty(nl))  # fmt: skip
-    area_px = area and fast_u8  # plain pixels through the uint8 area taps
+    area_px = area and fast_u8  # area taps in fixed point (uint8)
     nau = na if area_px else 1
     asc = (np.empty((4, nau), np.int32), np.empty((4, nau), np.int32), np.empty(nau, np.int32),
           np.empty(nau, np.int32), np.empty((8, nau), np.uint64), np.empty(nau, np.uint32),
@@ -2077,25 +1968,16 @@ def render_spec(
                 run_stages(codes, params, T, X, Y, Z, G, valid, w)
                 to_source(X, Y, Z, w, kx, ky, U, V)
             nsp = 0
-            nbig = 0
             if area:
-                nsp, nbig = _area_counts(
-                    U, V, valid, w, cl, hi, wi, ho, wo, tol, cap, special, J, BXc, BYc, mx, my, AS
+                nsp = _area_counts(
+                    U, V, valid, w, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BXc, BYc, AS
                 )
-                nx[:w] = 1
-                ny[:w] = 1
             elif do_aa:
                 nsp = _counts(T, G, valid, w, cl, aa_kx, aa_ky, tol, cap, uniform, nx, ny, special)
             if do_aa:
                 if jm:
                     nsp += _jump_flags(geo, vals, sa, sc, sn, i > 0, i + 1 < ho, w, cl, wo, ho,
                                        rho, jmin, nx, ny, special, area, J)  # fmt: skip
-                if area:
-                    nbig = 0
-                    for k in range(w):
-                        bp = mx[k] * my[k] > 1 and not special[k]
-                        big_px[k] = bp
-                        nbig += bp
             else:
                 for k in range(w):
                     special[k] = valid[k] == 0
@@ -2118,20 +2000,16 @@ def render_spec(
             elif area_px:
                 area_u8(p64, tail, big, wi, hi, c, U, V, BXc, BYc, w, res, asc, True)
                 store_u8(res, o32, p0, obytes, p0 * c, w, c, spill)
-                if nsp == 0 and nbig == 0:
+                if nsp == 0:
                     continue
             acc[:w] = 0.0
             cover[:w] = 0
-            if area:
-                if not area_px:
-                    for k in range(w):
-                        keep[k] = special[k] == 0 and big_px[k] == 0
-                    WS, X0, Y0 = ascr
-                    area_batch(img, U, V, BXc, BYc, w, keep, ident, acc, cover, WS, X0, Y0)
-                if nbig > 0:
-                    _area_linear(w, big_px, mx, my, U, V, J, kx, ky, img, area_px, u8, asc, lin,
-                                 acc, cover, ascr)  # fmt: skip
-            elif not direct:
+            if area and not area_px:
+                for k in range(w):
+                    keep[k] = special[k] == 0
+                WS, X0, Y0 = ascr
+                area_batch(img, U, V, BXc, BYc, w, keep, ident, acc, cover, WS, X0, Y0)
+            elif not direct and not area:
                 for k in range(w):
                     if not special[k]:
                         acc_sample(img, U[k], V[k], interp, acc, k)
@@ -2140,22 +2018,10 @@ def render_spec(
                 _subsamples(
                     0, w, special, nx, ny, cl, sl, cc, cs, tabs,
                     codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8, area, J,
-                    ascr,
+                    ascr, asc,
                 )  # fmt: skip
-            if area:
-                for k in range(w):
-                    if special[k]:
-                        cnt = nx[k] * ny[k]
-                    elif big_px[k] or not area_px:
-                        cnt = mx[k] * my[k]
-                    else:
-                        continue
-                    finish_pixel(
-                        acc, k, cover[k], cnt, bg, dst, p0 + k, c, co, is_int, maxval, full
-                    )
-                continue
             for k in range(w):
-                if special[k] or not direct:
+                if special[k] or not (direct or area_px):
                     finish_pixel(
                         acc, k, cover[k], nx[k] * ny[k], bg, dst, p0 + k, c, co,
                         is_int, maxval, full,
