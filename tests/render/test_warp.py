@@ -192,6 +192,23 @@ def test_two_sheets(interp):
 
 
 # -- robustness ------------------------------------------------------------------------------------
+def test_nearly_singular_mobius_renders():
+    """Found by hypothesis: a Möbius matrix this close to singular rounds the time
+    component of some pulled-back points to 0, which divided by zero in the compiled
+    magnification (a ZeroDivisionError with a traceback). Such pixels now count as
+    shrunk as can be."""
+    from spherewarp.render import WarpMap
+
+    e = [0.0, 1.175494351e-38, 0.0, 8.123870062916892e-26, 0.0, 0.0, 8.123870062916892e-26, 0.0]
+    m = Mobius(np.array(e[:4]).reshape(2, 2) + 1j * np.array(e[4:]).reshape(2, 2))
+    img = _random_image((8, 16, 3), np.float32)
+    for antialias in ("auto", "area", "none"):
+        out = warp(img, m, antialias=antialias, output_shape=(9, 14))
+        assert np.all(np.isfinite(out))
+        cached = WarpMap.build(m, (8, 16), (9, 14), antialias=antialias).apply(img)
+        assert np.all(np.isfinite(cached))
+
+
 @settings(max_examples=100, deadline=None)
 @given(
     entries=st.lists(st.floats(-5, 5), min_size=8, max_size=8),

@@ -853,7 +853,10 @@ def _counts(T, G, valid, n, cl, aa_kx, aa_ky, tol, cap, uniform, nx, ny, special
             a = uniform
             b = uniform
         else:
-            s = G[k] / T[k]
+            # T > 0 on the sphere's null cone, but a nearly singular Möbius matrix can
+            # round it to 0 (or NaN): count such a pixel as shrunk as can be
+            t = T[k]
+            s = min(G[k] / t, 1e9) if t > 0.0 else 1e9
             a = math.ceil(s * aa_kx * cl - tol)
             b = math.ceil(s * aa_ky - tol)
         nsp += _set_count(a, b, cap, valid[k], nx, ny, special, k)
@@ -891,10 +894,11 @@ def _geom_row(i, ho, jc, js, n, codes, params, T, G, geo, vals, slot):
     run_stages(codes, params, T, X, Y, Z, G, valid, n)
     for k in range(n):
         t = T[k]
-        X[k] = X[k] / t
-        Y[k] = Y[k] / t
-        Z[k] = Z[k] / t
-        S[k] = G[k] / t
+        it = 1.0 / t if t > 0.0 else 0.0  # t > 0, but a nearly singular matrix can round it
+        X[k] = X[k] * it
+        Y[k] = Y[k] * it
+        Z[k] = Z[k] * it
+        S[k] = min(G[k] * it, 1e9) if t > 0.0 else 1e9
 
 
 @njit(inline="always", **_H)
@@ -2049,7 +2053,8 @@ def spec_coords(codes, params, ccos, csin, r0, ho, kx, ky, u, v, scale, valid, w
         to_source(X, Y, Z, wo, kx, ky, u[r], v[r])
         sr = scale[r]
         for k in range(wo):
-            sr[k] = G[k] / T[k]
+            t = T[k]  # > 0, but a nearly singular Möbius matrix can round it to 0
+            sr[k] = min(G[k] / t, 1e9) if t > 0.0 else 1e9
 
 
 @njit(**_P)
