@@ -225,6 +225,17 @@ def test_area_follows_the_map_inside_large_footprints():
 
 
 @needs_jit
+def test_area_fixed_point_taps_on_an_input_two_pixels_wide():
+    """The 4 x 4 taps wrap round the seam more than once (found by review)."""
+    img = np.random.default_rng(3).integers(0, 256, (32, 2, 1), dtype=np.uint8)
+    m = Mobius.from_yaw_pitch_roll(10, 80, 0)
+    kw = {"antialias": "area", "output_shape": (40, 80), "force": True}
+    a = warp(img, m, **kw).astype(int)
+    b = np.rint(warp(img.astype(np.float32), m, **kw)).astype(int)
+    assert np.abs(a - b).max() <= 1
+
+
+@needs_jit
 @pytest.mark.parametrize(("kind", "channels"), [("zoom", 1), ("zoom", 4), ("droste", 3)])
 def test_area_fixed_point_taps_match_float_taps(kind, channels):
     """uint8 images take 4 x 4 fixed-point taps (weights in 1/4096); float images the

@@ -186,6 +186,21 @@ def test_float32_fast_path_matches_the_scalar_sampler(channels, antialias):
 
 
 @needs_jit
+def test_taps_stay_inside_the_image_for_nan_and_huge_coordinates():
+    """No stage gives such coordinates; the tap functions still read inside the image."""
+    k = fast._kernels()
+    u = np.array([np.nan, np.inf, -1e300, 5.0, -0.5, 15.5])
+    n, w, h = u.size, 16, 8
+    idx = np.empty((4, n), np.int64)
+    k.taps_f32(u, u[::-1].copy(), n, w, h, idx, np.empty(n, np.float32), np.empty(n, np.float32))
+    assert idx.min() >= 0 and idx.max() < w * h
+    oa, ob = np.empty(n, np.int32), np.empty(n, np.int32)
+    k.taps_u8(u, u[::-1].copy(), n, w, h, w * h, oa, ob, np.empty(n, np.uint16))
+    for o in (oa, ob):
+        assert np.all((o & 0x7FFFFFFF) < w * h)
+
+
+@needs_jit
 def test_uint8_last_pixel_and_alpha_background():
     img = _image((16, 32, 3), np.uint8)
     # the identity samples every input pixel, the last one (bottom right) too

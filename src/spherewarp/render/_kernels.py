@@ -1422,8 +1422,12 @@ def taps_u8(u, v, n, w_in, h_in, big, oa, ob, wt):
     zero = np.int32(0)
     bigi = np.int32(big)
     for k in range(n):
-        xi = np.int32(u[k] * 256.0 + 1024.5)
-        yi = np.int32(v[k] * 256.0 + 1024.5)
+        # NaN or huge coordinates (none from the stages; a safety net against reads
+        # outside the image) count as 0
+        uk = u[k] if abs(u[k]) < 1e6 else 0.0
+        vk = v[k] if abs(v[k]) < 1e6 else 0.0
+        xi = np.int32(uk * 256.0 + 1024.5)
+        yi = np.int32(vk * 256.0 + 1024.5)
         x0 = (xi >> np.int32(8)) - np.int32(4)
         y0 = (yi >> np.int32(8)) - np.int32(4)
         tx = xi & np.int32(255)
@@ -1554,10 +1558,12 @@ def taps_f32(u, v, n, w_in, h_in, I, TX, TY):
     H = np.int64(h_in)
     half = W // 2
     for k in range(n):
-        xf = math.floor(u[k])
-        yf = math.floor(v[k])
-        TX[k] = np.float32(u[k] - xf)
-        TY[k] = np.float32(v[k] - yf)
+        uk = u[k] if abs(u[k]) < 1e6 else 0.0  # NaN or huge: 0 (as taps_u8)
+        vk = v[k] if abs(v[k]) < 1e6 else 0.0
+        xf = math.floor(uk)
+        yf = math.floor(vk)
+        TX[k] = np.float32(uk - xf)
+        TY[k] = np.float32(vk - yf)
         x0 = np.int64(xf)
         y0 = np.int64(yf)
         x0 = x0 + W if x0 < 0 else x0
@@ -1661,12 +1667,14 @@ def area_taps_u8(U, V, BX, BY, n, WX, WY, X0, Y0):
     lo = np.float32(1e-3)
     hi = np.float32(2.0)
     for k in range(n):
-        fu = math.floor(U[k])
-        fv = math.floor(V[k])
+        uk = U[k] if abs(U[k]) < 1e6 else 0.0  # NaN or huge: 0 (as taps_u8)
+        vk = V[k] if abs(V[k]) < 1e6 else 0.0
+        fu = math.floor(uk)
+        fv = math.floor(vk)
         X0[k] = np.int32(fu) - np.int32(1)
         Y0[k] = np.int32(fv) - np.int32(1)
-        fx = np.float32(U[k] - fu)
-        fy = np.float32(V[k] - fv)
+        fx = np.float32(uk - fu)
+        fy = np.float32(vk - fv)
         bx = min(max(np.float32(BX[k]), lo), hi)
         by = min(max(np.float32(BY[k]), lo), hi)
         hx = half * bx
@@ -1722,7 +1730,8 @@ def _area_gather_slow(p64, tail, big, w_in, h_in, c, x0, y0, Q, k):
             q = np.uint64(0)
             for t in range(2):
                 xx = xs + 2 * m + t
-                xx = xx - w_in if xx >= w_in else xx
+                if xx >= w_in:  # (more than once round for an input 1 to 3 pixels wide)
+                    xx %= w_in
                 i = base + xx
                 px = (p64[i] if i < big else tail[i - big]) & lom
                 q |= px << (shift * np.uint64(t))
@@ -1858,7 +1867,8 @@ def render_spec(
     rows are then pulled back one ahead, with one column more on either side.
     ``area`` (with ``do_aa``, ``uniform = 0``): every pixel is an area tap over
     its footprint, supersampled where the footprint is over 2 input pixels
-    (:func:`_area_counts`, :func:`area_batch`).
+    (:func:`_area_counts`; the taps: :func:`area_u8` in fixed point for uint8,
+    :func:`area_batch` otherwise).
     """
     hi = img[5]
     wi, c, obytes, ntx, ntiles, big_w, shift, lom, spill = _layout(img, dst, ho, wo, th, tw)
