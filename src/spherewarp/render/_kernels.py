@@ -1705,23 +1705,11 @@ def area_taps_u8(U, V, BX, BY, n, WX, WY, X0, Y0):
 def _area_gather_slow(p64, tail, big, w_in, h_in, c, x0, y0, Q, k):
     """:func:`area_gather_u8` for a sample whose 4 x 4 taps cross the seam, a pole or
     the end of ``p64``: pixel by pixel, folding and wrapping as :func:`acc_sample`."""
-    half = w_in // 2
     shift = np.uint64(8 * c)
     lom = (np.uint64(1) << shift) - np.uint64(1)
     for j in range(4):
-        iy = y0 + j
-        sh = 0
-        if iy < 0:  # fold over the pole: row -1 - iy, half a turn round
-            iy = -1 - iy
-            sh = half
-        elif iy >= h_in:
-            iy = 2 * h_in - 1 - iy
-            sh = half
-        iy = min(max(iy, 0), h_in - 1)
+        iy, xs = _fold(y0 + j, np.int64(x0), h_in, w_in)  # the row's first tap
         base = iy * w_in
-        xs = x0 + sh
-        if xs < 0 or xs >= w_in:
-            xs %= w_in
         if xs + 3 < w_in and base + xs + 2 < big:  # this row is four neighbours
             Q[2 * j, k] = p64[base + xs]
             Q[2 * j + 1, k] = p64[base + xs + 2]
@@ -1729,10 +1717,7 @@ def _area_gather_slow(p64, tail, big, w_in, h_in, c, x0, y0, Q, k):
         for m in range(2):
             q = np.uint64(0)
             for t in range(2):
-                xx = xs + 2 * m + t
-                if xx >= w_in:  # (more than once round for an input 1 to 3 pixels wide)
-                    xx %= w_in
-                i = base + xx
+                i = base + (xs + 2 * m + t) % w_in  # (round more than once: 1 to 3 pixels)
                 px = (p64[i] if i < big else tail[i - big]) & lom
                 q |= px << (shift * np.uint64(t))
             Q[2 * j + m, k] = q
