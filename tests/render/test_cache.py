@@ -79,6 +79,21 @@ def test_apply_matches_warp_other_dtypes(dtype, interp):
     np.testing.assert_allclose(a, b, rtol=0, atol=tol)
 
 
+@pytest.mark.skipif(not fast.available(), reason="numba is not installed")
+@pytest.mark.parametrize("dtype", [np.uint8, np.float32])
+def test_area_is_rendered_on_the_fly_as_warp(dtype):
+    """``antialias="area"`` is not cached (its taps outweigh the image): apply gives
+    warp's image exactly, and the map holds (almost) nothing."""
+    img = _image((32, 64, 3), dtype)
+    m = Mobius.zoom((20, -30), 6).inverse()
+    wm = WarpMap.build(m, (32, 64), (24, 48), antialias="area")
+    assert wm.nbytes < 100 and wm.n_special == 0
+    want = warp(img, m, antialias="area", output_shape=(24, 48))
+    np.testing.assert_array_equal(wm.apply(img), want)
+    want = warp(img, m, antialias="area", output_shape=(24, 48), alpha=True)
+    np.testing.assert_array_equal(wm.apply(img, alpha=True), want)
+
+
 @pytest.mark.parametrize("m", MAPS, ids=["rotation", "zoom", "composite"])
 def test_float32_cached_taps_match_the_scalar_sampler(m):
     """float32 images go through vectorised cached taps; with an alpha channel added,

@@ -72,7 +72,10 @@ class WarpMap:
     Build with :meth:`build`; :meth:`apply` gives the same image as
     :func:`~spherewarp.render.warp` with the same options (to the rounding of
     the stored coordinates: 1/256 pixel for bilinear taps, float32
-    otherwise), at the cost of sampling alone.
+    otherwise), at the cost of sampling alone. ``antialias="area"`` is the
+    exception: its taps would take more memory than the image (16 bytes
+    each), so where it is compiled :meth:`apply` renders on the fly, the image
+    of :func:`~spherewarp.render.warp` exactly, and the map holds nothing.
 
     Attributes
     ----------
@@ -126,7 +129,9 @@ class WarpMap:
         out_shape : (height, width), optional
             Default: ``in_shape``.
         interp, antialias, supersample, force, threads
-            As for :func:`~spherewarp.render.warp`.
+            As for :func:`~spherewarp.render.warp`. ``antialias="area"`` with a map
+            that has compiled stages is not cached (see the class); without them
+            it is uniform 4 x 4, as in :func:`~spherewarp.render.warp`.
 
         Raises
         ------
@@ -152,10 +157,21 @@ class WarpMap:
         )
         interp = check_interp(interp)
         mode, n = _aa.parse_antialias(antialias, supersample)
-        if mode == "area":  # not cached: sample lists hold point samples
-            mode, n = _aa.AREA_FALLBACK
         use_jit = fast.available()
         spec = fast.kernel_spec(inverse_map) if use_jit else None
+        if mode == "area" and spec is not None and interp == "bilinear":
+            # the area filter is not cached (its taps would take 16 bytes each, more than
+            # the image): apply renders on the fly, the same image as warp
+            empty = np.empty(0, np.int64)
+            return cls(
+                in_shape=(h_in, w_in), out_shape=(h_out, w_out), interp=interp,
+                antialias=(mode, n), _spec=spec, _oa=np.empty(0, np.int32),
+                _wt=np.empty(0, np.uint16), _sp_pix=empty, _sp_start=np.zeros(1, np.int64),
+                _sp_u=np.empty(0, np.float32), _sp_v=np.empty(0, np.float32),
+                _sp_valid=np.empty(0, np.uint8), _sp_tile=empty,
+            )  # fmt: skip
+        if mode == "area":  # not compiled: uniform supersampling, which it approximates
+            mode, n = _aa.AREA_FALLBACK
         th, tw = fast.TILE
         nty, ntx = -(-h_out // th), -(-w_out // tw)
         bilinear = interp == "bilinear"
@@ -381,7 +397,12 @@ class WarpMap:
                 f"out: expected a writeable C-contiguous {img.dtype} array of shape {shape}"
             )
         bg = _background(background, c)
-        if fast.available():
+        if getattr(self, "_spec", None) is not None:  # antialias="area": on the fly
+            fast.render_spec(
+                img, self._spec, out, interp=self.interp, aa=("area", 0), background=bg,
+                threads=threads,
+            )  # fmt: skip
+        elif fast.available():
             self._apply_jit(fast._native(img), out, bg, threads)
         else:
             self._apply_numpy(img, out, bg)
