@@ -1650,6 +1650,26 @@ def _ramp_integral(t):
     return tc - np.float32(0.5) * p * p
 
 
+@njit(inline="always", **_H)
+def _box_weights(f, b, W, k):
+    """``W[0:4, k]``: the 4 fixed-point weights (1/4096) along one axis of a tap at
+    fraction ``f`` past its second pixel, box width ``b``: rounded cumulative sums
+    (the ramp's integral over the box), so that they sum to exactly 4096."""
+    half = np.float32(0.5)
+    one = np.float32(1.0)
+    h = half * b
+    s = np.float32(4096.0) / b
+    a = f + one
+    c0 = np.int32((_ramp_integral(a + h) - _ramp_integral(a - h)) * s + half)
+    c1 = np.int32((_ramp_integral(f + h) - _ramp_integral(f - h)) * s + half)
+    a = f - one
+    c2 = np.int32((_ramp_integral(a + h) - _ramp_integral(a - h)) * s + half)
+    W[0, k] = c0
+    W[1, k] = c1 - c0
+    W[2, k] = c2 - c1
+    W[3, k] = np.int32(4096) - c2
+
+
 @njit(**_V)
 def area_taps_u8(U, V, BX, BY, n, WX, WY, X0, Y0):
     """Fixed-point area taps (vectorised): the first tap ``X0, Y0`` and the weights
@@ -1662,8 +1682,6 @@ def area_taps_u8(U, V, BX, BY, n, WX, WY, X0, Y0):
     cumulative sums; the cumulative weight of the taps up to ``d`` is the ramp's
     integral over the box.
     """
-    one = np.float32(1.0)
-    half = np.float32(0.5)
     lo = np.float32(1e-3)
     hi = np.float32(2.0)
     for k in range(n):
@@ -1675,30 +1693,8 @@ def area_taps_u8(U, V, BX, BY, n, WX, WY, X0, Y0):
         Y0[k] = np.int32(fv) - np.int32(1)
         fx = np.float32(uk - fu)
         fy = np.float32(vk - fv)
-        bx = min(max(np.float32(BX[k]), lo), hi)
-        by = min(max(np.float32(BY[k]), lo), hi)
-        hx = half * bx
-        hy = half * by
-        sx = np.float32(4096.0) / bx
-        sy = np.float32(4096.0) / by
-        a = fx + one
-        c0 = np.int32((_ramp_integral(a + hx) - _ramp_integral(a - hx)) * sx + half)
-        c1 = np.int32((_ramp_integral(fx + hx) - _ramp_integral(fx - hx)) * sx + half)
-        a = fx - one
-        c2 = np.int32((_ramp_integral(a + hx) - _ramp_integral(a - hx)) * sx + half)
-        WX[0, k] = c0
-        WX[1, k] = c1 - c0
-        WX[2, k] = c2 - c1
-        WX[3, k] = np.int32(4096) - c2
-        a = fy + one
-        d0 = np.int32((_ramp_integral(a + hy) - _ramp_integral(a - hy)) * sy + half)
-        d1 = np.int32((_ramp_integral(fy + hy) - _ramp_integral(fy - hy)) * sy + half)
-        a = fy - one
-        d2 = np.int32((_ramp_integral(a + hy) - _ramp_integral(a - hy)) * sy + half)
-        WY[0, k] = d0
-        WY[1, k] = d1 - d0
-        WY[2, k] = d2 - d1
-        WY[3, k] = np.int32(4096) - d2
+        _box_weights(fx, min(max(np.float32(BX[k]), lo), hi), WX, k)
+        _box_weights(fy, min(max(np.float32(BY[k]), lo), hi), WY, k)
 
 
 @njit(**_H)
