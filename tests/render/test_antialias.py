@@ -169,14 +169,6 @@ needs_jit = pytest.mark.skipif(
 )
 
 
-@pytest.fixture
-def no_wide_taps(monkeypatch):
-    """uint8 ``area`` without the wide box taps (the float path has none)."""
-    from spherewarp.render import fast
-
-    monkeypatch.setattr(fast, "WIDE_TAPS", False)
-
-
 def _psnr(a: np.ndarray, ref: np.ndarray) -> float:
     mse = np.mean((a.astype(np.float64) - ref.astype(np.float64)) ** 2)
     return float(10 * np.log10(255.0**2 / mse))
@@ -233,7 +225,7 @@ def test_area_follows_the_map_inside_large_footprints():
 
 
 @needs_jit
-def test_area_fixed_point_taps_on_an_input_two_pixels_wide(no_wide_taps):
+def test_area_fixed_point_taps_on_an_input_two_pixels_wide():
     """The 4 x 4 taps wrap round the seam more than once (found by review)."""
     img = np.random.default_rng(3).integers(0, 256, (32, 2, 1), dtype=np.uint8)
     m = Mobius.from_yaw_pitch_roll(10, 80, 0)
@@ -245,11 +237,10 @@ def test_area_fixed_point_taps_on_an_input_two_pixels_wide(no_wide_taps):
 
 @needs_jit
 @pytest.mark.parametrize(("kind", "channels"), [("zoom", 1), ("zoom", 4), ("droste", 3)])
-def test_area_fixed_point_taps_match_float_taps(kind, channels, no_wide_taps):
+def test_area_fixed_point_taps_match_float_taps(kind, channels):
     """uint8 images take 4 x 4 fixed-point taps (weights in 1/4096); float images the
     float32 ones: the same filter, to within a level (two where rounding meets on
-    pixels that sum many taps). (uint8 images also take wide taps, which float ones do
-    not have: switched off here, tested below.)"""
+    pixels that sum many taps)."""
     from spherewarp.maps import Droste
 
     rng = np.random.default_rng(7)
@@ -278,109 +269,3 @@ def test_area_falls_back_to_uniform_supersampling():
         warp(img, r, antialias="area", interp="nearest"),
         warp(img, r, antialias=4, interp="nearest"),
     )
-
-
-def _box_brute(img, u, v, bx, by, n=(400, 400)):
-    """The bilinear surface of ``img`` averaged over a box (midpoint rule, ``n`` points
-    an axis), folding rows over the poles and wrapping columns round the seam."""
-    h, w = img.shape[:2]
-    xs = u - bx / 2 + (np.arange(n[0]) + 0.5) / n[0] * bx
-    ys = v - by / 2 + (np.arange(n[1]) + 0.5) / n[1] * by
-    x, y = np.meshgrid(xs, ys)
-    x0, y0 = np.floor(x).astype(int), np.floor(y).astype(int)
-    fx, fy = x - x0, y - y0
-    out = 0.0
-    for dy, wy in ((0, 1 - fy), (1, fy)):
-        for dx, wx in ((0, 1 - fx), (1, fx)):
-            iy, ix = y0 + dy, x0 + dx
-            past = (iy < 0) | (iy >= h)
-            iy = np.clip(np.where(iy < 0, -1 - iy, np.where(iy >= h, 2 * h - 1 - iy, iy)), 0, h - 1)
-            ix = np.where(past, ix + w // 2, ix) % w
-            out = out + (wx * wy)[..., None] * img[iy, ix].astype(float)
-    return out.mean((0, 1))
-
-
-@needs_jit
-@pytest.mark.parametrize(
-    ("u", "v", "bx", "by"),
-    [
-        (10.3, 20.7, 3.3, 2.5),  # inside
-        (1.2, 0.4, 7.5, 3.0),  # past the north pole, across the seam
-        (127.6, 62.8, 20.0, 5.0),  # past the south pole, across the seam
-        (60.0, 30.0, 300.5, 4.0),  # more than a turn round: two chunks of the prefix sums
-        (5.0, 1.0, 1000.3, 9.0),  # many turns
-        (64.2, 32.1, 0.5, 40.0),  # tall and thin
-        (-3.7, 63.5, 12.0, 0.2),  # flat, on the last row
-    ],
-)
-def test_wide_area_tap_is_the_box_integral(u, v, bx, by):
-    """One wide tap (row prefix sums, 16 bits, mod 2**16) is the bilinear surface
-    averaged over the box, seam and poles included."""
-    from spherewarp.render import fast
-
-    k = fast._kernels()
-    img = np.random.default_rng(1).integers(0, 256, (64, 128, 3), dtype=np.uint8)
-    prefix, prefix64 = fast._row_prefix(img, 1)
-    p64, _, big, _ = fast._u8_views(img, np.zeros_like(img))
-    acc = np.zeros(3, np.float32)
-    k.area_wide_u8(img, prefix, prefix64, p64, big, 64, 128, 3, u, v, bx, by, acc,
-                   np.zeros((4, 1), np.uint64))  # fmt: skip
-    want = _box_brute(img, u, v, bx, by, (max(400, int(bx * 20)), 400))
-    np.testing.assert_allclose(acc, want, atol=2e-3)
-
-
-@needs_jit
-@pytest.mark.parametrize("channels", [1, 3, 4])
-def test_wide_area_taps_in_a_batch_match_one_by_one(channels):
-    """The batched taps (boxes up to 2 pixels tall: loads of all channels at once) give
-    the one-by-one taps' values, rounded."""
-    from spherewarp.render import fast
-
-    k = fast._kernels()
-    rng = np.random.default_rng(2)
-    img = rng.integers(0, 256, (64, 128, channels), dtype=np.uint8)
-    prefix, prefix64 = fast._row_prefix(img, 1)
-    p64, _, big, _ = fast._u8_views(img, np.zeros_like(img))
-    n = 3000
-    u = rng.uniform(-300, 428, n)
-    v = rng.uniform(-3, 66, n)
-    bx = rng.uniform(0.1, 250, n)
-    by = rng.uniform(0.0, 2.0, n)
-    ws = (np.empty((8, n), np.float32), np.empty((2, n), np.int32), np.empty(n, np.int32),
-          np.empty((16, n), np.uint64))  # fmt: skip
-    res = np.zeros(n, np.uint32)
-    k.wide_u8(img, prefix, prefix64, p64, big, 64, 128, channels, u, v, bx, by, n, res, ws)
-    got = res.view(np.uint8).reshape(n, 4)[:, :channels]
-    acc = np.zeros(channels, np.float32)
-    want = np.zeros((n, channels))
-    for i in range(n):
-        k.area_wide_u8(img, prefix, prefix64, p64, big, 64, 128, channels, u[i], v[i], bx[i],
-                       by[i], acc, np.zeros((4, 1), np.uint64))  # fmt: skip
-        want[i] = acc
-    assert np.abs(got - np.clip(np.rint(want), 0, 255)).max() <= 1
-
-
-@needs_jit
-@pytest.mark.parametrize("kind", ["exp", "droste"])
-def test_wide_area_taps_keep_the_quality(kind):
-    """The wide taps (uint8, maps other than Mobius maps) are for speed: ``"area"``
-    stays within 1 dB of itself without them (a box is not the footprint's exact
-    shape), against 12 x 12. (On the exp map at this size ``"area"`` is behind 4 x 4
-    either way: 46 against 52 dB, from before the wide taps.)"""
-    from spherewarp.demo import sample_path
-    from spherewarp.droste import droste_map, hole_from_radius
-    from spherewarp.io import read_image
-    from spherewarp.maps.branched import ExpMap
-    from spherewarp.render import fast
-
-    img = np.ascontiguousarray(read_image(sample_path()).pixels[::2, ::2])  # 256 x 512
-    m = ExpMap(4.0) if kind == "exp" else droste_map(hole_from_radius((0, 0), 25), 3.0)
-    ref = warp(img, m, antialias=12)
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(fast, "WIDE_TAPS", False)
-        parts = warp(img, m, antialias="area")
-    wide = warp(img, m, antialias="area")
-    assert (wide != parts).any(1).mean() > 0.01  # the wide taps took part
-    assert _psnr(wide, ref) >= _psnr(parts, ref) - 1.0
-    if kind == "droste":
-        assert _psnr(wide, ref) >= _psnr(warp(img, m, antialias=4), ref)

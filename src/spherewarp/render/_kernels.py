@@ -108,18 +108,6 @@ BICUBIC = 2
 #: max subsamples buffered at once in the anti-aliasing pass (>= 32 * 32)
 SUB_BATCH = 2048
 
-#: the widest box (input pixels) of a ``wide`` area tap (one chunk of a row is at most
-#: ``_WIDE_CHUNK`` columns, so that its sum fits the 16 bits of the prefix sums)
-WIDE_MAX_X = 4096.0
-_WIDE_CHUNK = 255
-#: the tallest box of a ``wide`` area tap: 4 rows, the batched taps (:func:`wide_u8`).
-#: Taller footprints are split into parts pulled back through the map: with boxes up to
-#: 64 pixels tall the zoom by 8 lost 1.8 dB (a box is not a turned footprint's shape)
-#: and was no faster (parts are cheap where the map is)
-WIDE_MAX_Y = 2.0
-#: the largest correlation of a footprint's x and y that a ``wide`` tap's box stands for
-WIDE_SKEW = 0.3
-
 # Near-minimax polynomial of atan(a)/a in s = a^2 on [0, 1] (degree 18,
 # Chebyshev interpolation in 50-digit arithmetic): |error of atan| < 3e-16.
 _A0 = 0.9999999999999998
@@ -914,28 +902,27 @@ def _geom_row(i, ho, jc, js, n, codes, params, T, G, geo, vals, slot):
 
 
 @njit(inline="always", **_H)
-def _jump_pair(ga, va, ja, gb, vb, jb, step, rho):
-    """Whether neighbouring source points (column ``ja`` of rows ``ga``, ``jb`` of ``gb``)
-    are further apart than the magnification allows (as
-    :func:`spherewarp.render.antialias.jump_mask`); branch-free, squared distances."""
-    dx = ga[0, ja] - gb[0, jb]
-    dy = ga[1, ja] - gb[1, jb]
-    dz = ga[2, ja] - gb[2, jb]
-    allow = 2.0 * max(ga[3, ja], gb[3, jb]) * step + 2.0 * rho
-    return (va[ja] != 0) & (vb[jb] != 0) & (dx * dx + dy * dy + dz * dz > allow * allow)
+def _is_jump(xa, ya, za, sa, va, xb, yb, zb, sb, vb, step, rho):
+    """Whether neighbouring source points are further apart than the magnification allows
+    (as :func:`spherewarp.render.antialias.jump_mask`)."""
+    dx = xa - xb
+    dy = ya - yb
+    dz = za - zb
+    d = math.sqrt(dx * dx + dy * dy + dz * dz)
+    allow = 2.0 * max(sa, sb) * step + 2.0 * rho
+    return (va != 0) and (vb != 0) and d > allow
 
 
-@njit(**_V)
+@njit(**_H)
 def _jump_flags(geo, vals, above, cur, below, has_above, has_below, w, cl, wo, ho, rho,
-                jmin, nx, ny, special, area, J, F):  # fmt: skip
+                jmin, nx, ny, special, area, J):  # fmt: skip
     """Give the pixels of the current row that sit on a jump ``jmin x jmin`` samples at
     least; returns how many pixels became special.
 
     ``geo[slot]`` holds ``(X, Y, Z, S)`` rows of ``w + 2`` columns (one either side of the
     chunk) and ``vals[slot]`` their validity, for the rows above, current and below.
     With ``area``, the footprint ``J`` of a pixel on a jump (meaningless there) is
-    cleared: its samples are plain bilinear taps. ``F``: scratch, ``(3, >= w + 1)``
-    uint8 (the tests are vectorised passes: along the row, to the row above, below).
+    cleared: its samples are plain bilinear taps.
     """
     hstep = TWO_PI / wo * cl
     vstep = PI / ho
@@ -945,17 +932,22 @@ def _jump_flags(geo, vals, above, cur, below, has_above, has_below, w, cl, wo, h
     va = vals[above]
     gb = geo[below]
     vb = vals[below]
-    FH = F[0]
-    FA = F[1]
-    FB = F[2]
-    for j in range(w + 1):  # columns j, j + 1: pixel j's left pair, pixel j - 1's right one
-        FH[j] = _jump_pair(gc, vc, j, gc, vc, j + 1, hstep, rho)
-    for k in range(w):
-        FA[k] = _jump_pair(gc, vc, k + 1, ga, va, k + 1, vstep, rho) & has_above
-        FB[k] = _jump_pair(gc, vc, k + 1, gb, vb, k + 1, vstep, rho) & has_below
     added = 0
     for k in range(w):
-        if FH[k] | FH[k + 1] | FA[k] | FB[k]:
+        j = k + 1
+        jump = _is_jump(gc[0, j], gc[1, j], gc[2, j], gc[3, j], vc[j],
+                        gc[0, j - 1], gc[1, j - 1], gc[2, j - 1], gc[3, j - 1], vc[j - 1],
+                        hstep, rho) or \
+            _is_jump(gc[0, j], gc[1, j], gc[2, j], gc[3, j], vc[j],
+                     gc[0, j + 1], gc[1, j + 1], gc[2, j + 1], gc[3, j + 1], vc[j + 1],
+                     hstep, rho)  # fmt: skip
+        if not jump and has_above:
+            jump = _is_jump(gc[0, j], gc[1, j], gc[2, j], gc[3, j], vc[j],
+                            ga[0, j], ga[1, j], ga[2, j], ga[3, j], va[j], vstep, rho)  # fmt: skip
+        if not jump and has_below:
+            jump = _is_jump(gc[0, j], gc[1, j], gc[2, j], gc[3, j], vc[j],
+                            gb[0, j], gb[1, j], gb[2, j], gb[3, j], vb[j], vstep, rho)  # fmt: skip
+        if jump:
             if not special[k]:
                 added += 1
             nx[k] = max(nx[k], jmin)
@@ -1211,9 +1203,7 @@ def area_batch(img, U, V, BX, BY, n, keep, own, acc, cover, WS, X0, Y0):
 
 
 @njit(**_V)
-def _area_counts(
-    U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BX, BY, S, wide, wide_ok
-):
+def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BX, BY, S):
     """Footprints (``J``, boxes ``BX x BY``) and samples per pixel of
     ``antialias="area"``; returns the number of special pixels.
 
@@ -1231,18 +1221,9 @@ def _area_counts(
     footprint is longer gets ``ceil(L / sqrt 2)`` samples along each of its axes
     (``L`` the length of that column of ``J``, at most ``cap``), each pulled back
     through the map and an area tap over its share of the footprint
-    (:func:`_subsamples`): it is ``special``, as an undefined pixel is.
-
-    With ``wide_ok`` (uint8 images), such a pixel is ``wide`` instead, one box tap
-    over its whole footprint (:func:`wide_u8`, :func:`area_wide_u8`), where the box
-    stands for the footprint: the pixel has neighbours on both sides in the chunk and
-    its left and right differences agree to within a quarter of their length plus
-    half an input pixel (the map is close to linear over it); the correlation of the
-    footprint's x and y is at most ``WIDE_SKEW`` (near the output's poles a pixel is a
-    sliver that may lie aslant, and a box does not stand for that); the box is at most
-    ``WIDE_MAX_X x WIDE_MAX_Y`` input pixels. A chunk of one pixel has no neighbour to
-    difference with: it gets a plain bilinear tap. ``S``: scratch, ``(3, >= n + 1)``.
-    Returns the number of special pixels.
+    (:func:`_subsamples`): it is ``special``, as an undefined pixel is. A chunk of
+    one pixel has no neighbour to difference with: it gets a plain bilinear tap.
+    ``S``: scratch, ``(3, >= n + 1)``.
     """
     q = wo / (2.0 * ho * cl)
     half = 0.5 * wi
@@ -1276,10 +1257,6 @@ def _area_counts(
     fcap = f(cap)
     one = f(1.0)
     half32 = f(0.5)
-    wok = bool(wide_ok)
-    wmx = f(WIDE_MAX_X)
-    wmy = f(WIDE_MAX_Y)
-    wsk = f(WIDE_SKEW)
     for k in range(n):
         dul = f(DU[k])
         dvl = f(DV[k])
@@ -1304,20 +1281,9 @@ def _area_counts(
         BY[k] = math.sqrt(dv * dv + j21 * j21)
         a = min(max(np.ceil(math.sqrt(du * du + dv * dv) * r2 - tol32), one), fcap)
         b = min(max(np.ceil(math.sqrt(j01 * j01 + j21 * j21) * r2 - tol32), one), fcap)
-        split = a * b > one
-        dd = (dur - dul) * (dur - dul) + (dvr - dvl) * (dvr - dvl)
-        bend = f(0.25) * math.sqrt(max(ll, lr)) + half32
-        # a box stands for a footprint only while it is not sheared along the input's
-        # axes (near the output's poles a pixel is a sliver, and it may lie aslant): the
-        # correlation of its x and y, |cov| / (BX BY), at most WIDE_SKEW
-        cov = du * dv + j01 * j21
-        skew = abs(cov) <= wsk * BX[k] * BY[k]
-        inner = (k > 0) & (k < n - 1)  # (a chunk's ends have one neighbour: no bend test)
-        wd = split & wok & inner & (dd <= bend * bend) & (BX[k] <= wmx) & (BY[k] <= wmy) & skew
-        wide[k] = wd
-        nx[k] = np.int64(a)  # (a wide pixel that sits on a jump is split after all)
+        nx[k] = np.int64(a)
         ny[k] = np.int64(b)
-        sp = np.int64((valid[k] == 0) | (split & ~wd))
+        sp = np.int64((valid[k] == 0) or (a * b > one))
         special[k] = sp
         nsp += sp
     return nsp
@@ -1837,311 +1803,6 @@ def area_u8(p64, tail, big, w_in, h_in, c, U, V, BX, BY, n, res, sc, packed):
     area_blend_u8(Q, WX, WY, res, F, n, c, packed)
 
 
-# -- uint8 area taps of any width: box integrals through row prefix sums -------------------------
-@njit(inline="always", **_H)
-def _tent_cdf(s):
-    """``int_-inf^s tent``: the share of a bilinear tap's tent left of ``s``."""
-    s = min(max(s, -1.0), 1.0)
-    return 0.5 + s - 0.5 * s * abs(s)
-
-
-@njit(inline="always", **_H)
-def _wrap(j, w_in):
-    """``(j mod w_in, turns)``: a column round the seam, and how many times it went round
-    (a division only off the image)."""
-    if 0 <= j < w_in:
-        return j, np.int64(0)
-    q = j // w_in
-    return j - q * w_in, q
-
-
-@njit(**_H)
-def _end_slow(I, P, iy, j, w_in, c, Q, qi, k):
-    """:func:`_end_loads` round the seam (or at the end of the views): the prefix sums
-    taken mod 2**16 with their whole turns, the pixel's right neighbour across the seam."""
-    j, q = _wrap(j, w_in)
-    j1 = j + 1 if j + 1 < w_in else 0
-    pq = np.uint64(0)
-    xq = np.uint64(0)
-    for ch in range(c):
-        pv = (q * np.int64(P[iy, w_in, ch]) + np.int64(P[iy, j, ch])) & np.int64(0xFFFF)
-        pq |= np.uint64(pv) << np.uint64(16 * ch)
-        xq |= np.uint64(I[iy, j, ch]) << np.uint64(8 * ch)
-        xq |= np.uint64(I[iy, j1, ch]) << np.uint64(8 * (c + ch))
-    Q[qi, k] = pq
-    Q[qi + 2, k] = xq
-
-
-@njit(inline="always", **_H)
-def _end_loads(I, P, P64, p64, big, iy, j, w_in, c, Q, qi, k):
-    """The loads at one end of a wide tap on row ``iy``: ``Q[qi, k]`` the prefix sums of
-    all channels at column ``j`` (16 bits each), ``Q[qi + 2, k]`` pixels ``j`` and
-    ``j + 1`` (``c`` bytes each), as ``p64`` loads them."""
-    i = iy * w_in + j
-    if 0 <= j and j + 1 < w_in and i < big:
-        Q[qi, k] = P64[i + iy]  # (the prefix sums' rows are w_in + 1 long)
-        Q[qi + 2, k] = p64[i]
-    else:
-        _end_slow(I, P, iy, j, w_in, c, Q, qi, k)
-
-
-@njit(inline="always", **_H)
-def _fold_row(iy, h_in, hw):
-    """Row ``iy`` folded over a pole, and the half turn its columns move by."""
-    if 0 <= iy < h_in:
-        return iy, np.int64(0)
-    iy = -1 - iy if iy < 0 else 2 * h_in - 1 - iy
-    return min(max(iy, 0), h_in - 1), hw
-
-
-@njit(inline="always", **_H)
-def _row_sum(Q, j, k, a0, b0, a1, b1, s16, s8, sn):
-    """One channel's integral of a tent-interpolated row between a wide tap's ends
-    (the loads ``Q[4 j : 4 j + 4, k]``): ``G(x1) - G(x0)``, ``G(i + t) = P(i) + T(t) p(i)
-    + T(t - 1) p(i + 1)`` (see :func:`wide_u8`)."""
-    m16 = np.uint64(0xFFFF)
-    m8 = np.uint64(0xFF)
-    d = np.float32(np.int32(((Q[4 * j + 1, k] >> s16) - (Q[4 * j, k] >> s16)) & m16))
-    qa = Q[4 * j + 2, k]
-    qb = Q[4 * j + 3, k]
-    d += a1 * np.float32(np.int32((qb >> s8) & m8))
-    d += b1 * np.float32(np.int32((qb >> sn) & m8))
-    d -= a0 * np.float32(np.int32((qa >> s8) & m8))
-    d -= b0 * np.float32(np.int32((qa >> sn) & m8))
-    return d
-
-
-@njit(**_V)
-def wide_taps(U, V, BX, BY, n, A, X, Y0):
-    """Weights of the wide taps of ``n`` boxes at most 2 pixels tall (4 rows; see
-    :func:`wide_u8`): ``A[0:4]`` the end weights ``T(t0), T(t0 - 1), T(t1), T(t1 - 1)``,
-    ``A[4 + r]`` row ``r``'s weight divided by the box's area; ``X[0]``, ``X[1]`` the
-    columns of the box's ends; ``Y0`` its first row."""
-    one = np.float32(1.0)
-    two = np.float32(2.0)
-    three = np.float32(3.0)
-    for k in range(n):
-        uk = U[k] if abs(U[k]) < 1e6 else 0.0  # NaN or huge: 0 (as taps_u8)
-        vk = V[k] if abs(V[k]) < 1e6 else 0.0
-        bx = max(BX[k], 1e-3)
-        hx = 0.5 * bx
-        hy = 0.5 * min(max(BY[k], 1e-3), 2.0)  # (as area_taps_u8: a height in float32)
-        x0 = uk - hx
-        x1 = uk + hx
-        f0 = math.floor(x0)
-        f1 = math.floor(x1)
-        t0 = np.float32(x0 - f0)
-        t1 = np.float32(x1 - f1)
-        A[0, k] = _tent_cdf(t0)
-        A[1, k] = _tent_cdf(t0 - one)
-        A[2, k] = _tent_cdf(t1)
-        A[3, k] = _tent_cdf(t1 - one)
-        X[0, k] = np.int32(f0)
-        X[1, k] = np.int32(f1)
-        fr = math.floor(vk - hy - 1.0) + 1.0
-        Y0[k] = np.int32(fr)
-        a = np.float32(vk - fr + hy)
-        b = np.float32(vk - fr - hy)
-        w0 = _tent_cdf(a) - _tent_cdf(b)
-        w1 = _tent_cdf(a - one) - _tent_cdf(b - one)
-        w2 = _tent_cdf(a - two) - _tent_cdf(b - two)
-        w3 = _tent_cdf(a - three) - _tent_cdf(b - three)
-        sc = one / ((w0 + w1 + w2 + w3) * np.float32(bx))
-        A[4, k] = w0 * sc
-        A[5, k] = w1 * sc
-        A[6, k] = w2 * sc
-        A[7, k] = w3 * sc
-
-
-@njit(**_H)
-def wide_gather(I, P, P64, p64, big, h_in, w_in, c, X, Y0, n, Q):
-    """The loads of :func:`wide_taps`'s taps, 4 a row (:func:`_end_loads`): ``Q[4 r]``,
-    ``Q[4 r + 1]`` the prefix sums at row ``r``'s ends, ``Q[4 r + 2]``, ``Q[4 r + 3]``
-    the end pixels and their right neighbours. Rows past a pole fold over it (half a
-    turn round), columns wrap round the seam. At most ``_WIDE_CHUNK`` columns a row."""
-    hw = np.int64(w_in // 2)
-    wp = w_in + 1
-    for k in range(n):
-        x0 = X[0, k]
-        x1 = X[1, k]
-        y0 = Y0[k]
-        ye = y0 + 3
-        if y0 >= 0 and ye < h_in and x0 >= 0 and x1 + 1 < w_in and ye * w_in + x1 < big:
-            for r in range(4):
-                iy = y0 + r
-                Q[4 * r, k] = P64[iy * wp + x0]
-                Q[4 * r + 1, k] = P64[iy * wp + x1]
-                Q[4 * r + 2, k] = p64[iy * w_in + x0]
-                Q[4 * r + 3, k] = p64[iy * w_in + x1]
-            continue
-        for r in range(4):
-            iy, sh = _fold_row(np.int64(y0) + r, h_in, hw)
-            _end_loads(I, P, P64, p64, big, iy, np.int64(x0) + sh, w_in, c, Q, 4 * r, k)
-            _end_loads(I, P, P64, p64, big, iy, np.int64(x1) + sh, w_in, c, Q, 4 * r + 1, k)
-
-
-@njit(inline="always", **_H)
-def _wide_blend_c(Q, A, res, n, c):
-    for k in range(n):
-        a0 = A[0, k]
-        b0 = A[1, k]
-        a1 = A[2, k]
-        b1 = A[3, k]
-        r = np.uint32(0)
-        for ch in range(c):
-            s16 = np.uint64(16 * ch)
-            s8 = np.uint64(8 * ch)
-            sn = np.uint64(8 * (ch + c))
-            acc = np.float32(0.0)
-            for j in range(4):
-                acc += A[4 + j, k] * _row_sum(Q, j, k, a0, b0, a1, b1, s16, s8, sn)
-            x = min(max(acc + np.float32(0.5), np.float32(0.0)), np.float32(255.0))
-            r |= np.uint32(x) << np.uint32(8 * ch)
-        res[k] = r
-
-
-@njit(**_H)
-def wide_blend(Q, A, res, n, c):
-    """The wide taps' sums, rounded and packed into ``res``; one branch per channel
-    count, so that the channel loop is unrolled."""
-    if c == 3:
-        _wide_blend_c(Q, A, res, n, 3)
-    elif c == 4:
-        _wide_blend_c(Q, A, res, n, 4)
-    elif c == 1:
-        _wide_blend_c(Q, A, res, n, 1)
-    else:
-        _wide_blend_c(Q, A, res, n, 2)
-
-
-@njit(**_H)
-def wide_u8(I, P, P64, p64, big, h_in, w_in, c, U, V, BX, BY, n, res, ws):
-    """Area taps of any width of ``n`` boxes at most 2 input pixels tall, rounded and
-    packed into ``res`` (``ws``: the scratch ``A, X, Y0, Q``).
-
-    The box of sample ``k`` is ``BX[k] x BY[k]`` input pixels centred on tap-space
-    point ``(U[k], V[k])``. Each of its 4 rows is an exact integral of the
-    tent-interpolated row over the box's ``[x0, x1]``: ``G(x1) - G(x0)`` with
-    ``G(j + t) = P(j) + T(t) p(j) + T(t - 1) p(j + 1)``, ``P`` the row's prefix sums
-    (:func:`row_prefix_u8`, 16 bits: exact up to ``_WIDE_CHUNK`` columns), ``p`` its
-    pixels and ``T`` the tent's integral (:func:`_tent_cdf`); the rows are weighted by
-    the tent's integral over the box's height. So this is the filter of
-    :func:`area_taps_u8` (the tent averaged over the box) without its limit of 2 input
-    pixels across, at 4 loads a row whatever the width.
-    Passes: weights (:func:`wide_taps`, vectorised), loads (:func:`wide_gather`), sums
-    (:func:`wide_blend`, vectorised).
-    """
-    A, X, Y0, Q = ws
-    wide_taps(U, V, BX, BY, n, A, X, Y0)
-    wide_gather(I, P, P64, p64, big, h_in, w_in, c, X, Y0, n, Q)
-    wide_blend(Q, A, res, n, c)
-
-
-@njit(**_H)
-def area_wide_u8(I, P, P64, p64, big, h_in, w_in, c, u, v, bx, by, acc, Q):
-    """One wide area tap of any height (:func:`wide_u8`'s filter, row by row) into
-    ``acc[0:c]`` (float32, unrounded); ``Q``: scratch ``(4, 1)`` uint64. Rows longer
-    than ``_WIDE_CHUNK`` columns are summed in chunks."""
-    bx = max(bx, 1e-3)
-    hx = 0.5 * bx
-    hy = 0.5 * max(by, 1e-3)
-    r0 = np.int64(math.floor(v - hy - 1.0)) + 1
-    r1 = np.int64(math.ceil(v + hy + 1.0)) - 1
-    hw = np.int64(w_in // 2)
-    m16 = np.int64(0xFFFF)
-    for ch in range(c):
-        acc[ch] = np.float32(0.0)
-    ws = np.float32(0.0)
-    for r in range(r0, r1 + 1):
-        wy = np.float32(_tent_cdf(v + hy - r) - _tent_cdf(v - hy - r))
-        if wy <= np.float32(0.0):
-            continue
-        ws += wy
-        x0 = u - hx
-        x1 = u + hx
-        f0 = math.floor(x0)
-        f1 = math.floor(x1)
-        a0 = np.float32(_tent_cdf(x0 - f0))
-        b0 = np.float32(_tent_cdf(x0 - f0 - 1.0))
-        a1 = np.float32(_tent_cdf(x1 - f1))
-        b1 = np.float32(_tent_cdf(x1 - f1 - 1.0))
-        j0 = np.int64(f0)
-        j1 = np.int64(f1)
-        iy, sh2 = _fold_row(r, h_in, hw)
-        _end_loads(I, P, P64, p64, big, iy, j0 + sh2, w_in, c, Q, 0, 0)
-        _end_loads(I, P, P64, p64, big, iy, j1 + sh2, w_in, c, Q, 1, 0)
-        for ch in range(c):
-            d = _row_sum(Q, 0, 0, a0, b0, a1, b1, np.uint64(16 * ch), np.uint64(8 * ch),
-                         np.uint64(8 * (ch + c)))  # fmt: skip
-            if j1 - j0 > _WIDE_CHUNK:  # the chunks' sums, each exact in 16 bits
-                d -= np.float32(
-                    np.int32(
-                        ((Q[1, 0] >> np.uint64(16 * ch)) - (Q[0, 0] >> np.uint64(16 * ch)))
-                        & np.uint64(0xFFFF)
-                    )
-                )
-                ja, qa = _wrap(j0 + sh2, w_in)
-                R = np.int64(P[iy, w_in, ch])
-                pe = qa * R + np.int64(P[iy, ja, ch])
-                e = j0
-                while e < j1:
-                    e = min(e + np.int64(_WIDE_CHUNK), j1)
-                    je, qe = _wrap(e + sh2, w_in)
-                    pn = qe * R + np.int64(P[iy, je, ch])
-                    d += np.float32(np.int32((pn - pe) & m16))
-                    pe = pn
-            acc[ch] += wy * d
-    f = np.float32(1.0) / (ws * np.float32(bx))
-    for ch in range(c):
-        acc[ch] *= f
-
-
-@njit(**_H)
-def _wide_rest(I, P, P64, p64, big, h_in, w_in, c, U, V, BX, BY, wide, special, n, res, acc,
-               Q):  # fmt: skip
-    """:func:`area_wide_u8` for the ``wide`` pixels of a row that :func:`wide_u8` does not
-    take (boxes over 250 input pixels wide, next to the input's poles), rounded and
-    packed into ``res``."""
-    for k in range(n):
-        if wide[k] and not special[k]:
-            area_wide_u8(I, P, P64, p64, big, h_in, w_in, c, U[k], V[k], BX[k], BY[k], acc, Q)
-            r = np.uint32(0)
-            for ch in range(c):
-                x = min(max(acc[ch] + np.float32(0.5), np.float32(0.0)), np.float32(255.0))
-                r |= np.uint32(x) << np.uint32(8 * ch)
-            res[k] = r
-
-
-@njit(**_P)
-def row_prefix_u8(I, P, wk, nw):
-    """``P[y, j, ch] = sum(I[y, :j, ch]) mod 2**16`` (``P``: ``(h, w + 1, c)`` uint16),
-    rows dealt out to worker ``wk`` of ``nw``."""
-    h, w, c = I.shape
-    for y in range(wk, h, nw):
-        for ch in range(c):
-            s = np.uint16(0)
-            P[y, 0, ch] = s
-            for x in range(w):
-                s += np.uint16(I[y, x, ch])
-                P[y, x + 1, ch] = s
-
-
-@njit(**_H)
-def _compact(sel, n, U, V, BX, BY, CF, CI):
-    """Copy ``U, V, BX, BY`` of the selected samples into ``CF[0:4]`` (their indices into
-    ``CI``); returns how many."""
-    m = 0
-    for k in range(n):
-        if sel[k]:
-            CI[m] = k
-            CF[0, m] = U[k]
-            CF[1, m] = V[k]
-            CF[2, m] = BX[k]
-            CF[3, m] = BY[k]
-            m += 1
-    return m
-
-
 # -- tiles -----------------------------------------------------------------------------------------
 @njit(**_H)
 def _layout(img, dst, ho, wo, th, tw):
@@ -2167,8 +1828,7 @@ def _tile(t, ntx, th, tw, ho, wo):
 
 @njit(**_P)
 def render_spec(
-    img, p64, tail, big, o32, dst, ho, wo, co, fast_u8, fast_f32, fimg, prefix, prefix64,
-    wide_ok,
+    img, p64, tail, big, o32, dst, ho, wo, co, fast_u8, fast_f32, fimg,
     codes, params, ccos, csin, tabs, kx, ky,
     do_aa, aa_kx, aa_ky, tol, cap, uniform, jumps, rho, jmin, area,
     interp, bg, is_int, maxval, full, th, tw, wk, nw,
@@ -2189,11 +1849,7 @@ def render_spec(
     ``area`` (with ``do_aa``, ``uniform = 0``): every pixel is an area tap over
     its footprint, supersampled where the footprint is over 2 input pixels
     (:func:`_area_counts`; the taps: :func:`area_u8` in fixed point for uint8,
-    :func:`area_batch` otherwise). ``wide_ok`` (uint8 images): a pixel whose footprint
-    is longer but which a box stands for takes one box tap instead (:func:`wide_u8`, in
-    batches; :func:`area_wide_u8` for boxes over 250 input pixels wide), from
-    ``prefix``, the input's row prefix sums (:func:`row_prefix_u8`), and ``prefix64``,
-    their uint64 view.
+    :func:`area_batch` otherwise).
     """
     hi = img[5]
     wi, c, obytes, ntx, ntiles, big_w, shift, lom, spill = _layout(img, dst, ho, wo, th, tw)
@@ -2208,19 +1864,9 @@ def render_spec(
     G = f64s[4]
     U = f64s[5]
     V = f64s[6]
-    u8s = np.empty((3, tw), np.uint8)
+    u8s = np.empty((2, tw), np.uint8)
     valid = u8s[0]
     special = u8s[1]
-    wide = u8s[2]
-    wacc = np.empty(c, np.float32)
-    nwd = tw if wide_ok else 1
-    CF = np.empty((4, nwd))  # compacted U, V, BX, BY of a batch of taps
-    CI = np.empty(nwd, np.int64)
-    cres = np.empty(nwd, np.uint32)
-    ws4 = (np.empty((8, nwd), np.float32), np.empty((2, nwd), np.int32), np.empty(nwd, np.int32),
-           np.empty((16, nwd), np.uint64))  # fmt: skip
-    wq = np.empty((4, 1), np.uint64)
-    sel = np.empty(nwd, np.uint8)
     i64s = np.empty((3, tw), np.int64)
     nx = i64s[0]
     ny = i64s[1]
@@ -2264,7 +1910,6 @@ def render_spec(
     tw2 = tw + 2 if jm else 1
     geo = np.empty((3, 4, tw2))
     vals = np.empty((3, tw2), np.uint8)
-    jfl = np.empty((3, tw2), np.uint8)
     jtmp = np.empty((4, tw2))
     jc = jtmp[0]
     js = jtmp[1]
@@ -2320,15 +1965,14 @@ def render_spec(
             nsp = 0
             if area:
                 nsp = _area_counts(
-                    U, V, valid, w, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BXc, BYc, AS,
-                    wide, wide_ok and area_px,
-                )  # fmt: skip
+                    U, V, valid, w, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BXc, BYc, AS
+                )
             elif do_aa:
                 nsp = _counts(T, G, valid, w, cl, aa_kx, aa_ky, tol, cap, uniform, nx, ny, special)
             if do_aa:
                 if jm:
                     nsp += _jump_flags(geo, vals, sa, sc, sn, i > 0, i + 1 < ho, w, cl, wo, ho,
-                                       rho, jmin, nx, ny, special, area, J, jfl)  # fmt: skip
+                                       rho, jmin, nx, ny, special, area, J)  # fmt: skip
             else:
                 for k in range(w):
                     special[k] = valid[k] == 0
@@ -2349,32 +1993,7 @@ def render_spec(
                 if nsp == 0:
                     continue
             elif area_px:
-                nwide = 0
-                if wide_ok:
-                    for k in range(w):
-                        nwide += wide[k]
-                if nwide > 0:
-                    # 4 x 4 taps only where neither a wide tap nor supersampling replaces them
-                    for k in range(w):
-                        sel[k] = not (wide[k] | special[k])
-                    m = _compact(sel, w, U, V, BXc, BYc, CF, CI)
-                    area_u8(p64, tail, big, wi, hi, c, CF[0], CF[1], CF[2], CF[3], m, cres, asc,
-                            True)  # fmt: skip
-                    for q in range(m):
-                        res[CI[q]] = cres[q]
-                    # wide taps: in a batch up to 250 x 2 input pixels, the rest one by one
-                    for k in range(w):
-                        sel[k] = wide[k] and not special[k] and BXc[k] <= 250.0 and BYc[k] <= 2.0
-                        wide[k] = wide[k] and not sel[k]
-                    m = _compact(sel, w, U, V, BXc, BYc, CF, CI)
-                    wide_u8(img[0], prefix, prefix64, p64, big, hi, wi, c, CF[0], CF[1], CF[2],
-                            CF[3], m, cres, ws4)  # fmt: skip
-                    for q in range(m):
-                        res[CI[q]] = cres[q]
-                    _wide_rest(img[0], prefix, prefix64, p64, big, hi, wi, c, U, V, BXc, BYc,
-                               wide, special, w, res, wacc, wq)  # fmt: skip
-                else:
-                    area_u8(p64, tail, big, wi, hi, c, U, V, BXc, BYc, w, res, asc, True)
+                area_u8(p64, tail, big, wi, hi, c, U, V, BXc, BYc, w, res, asc, True)
                 store_u8(res, o32, p0, obytes, p0 * c, w, c, spill)
                 if nsp == 0:
                     continue

@@ -383,27 +383,6 @@ _DUMMY64 = _readonly(np.ndarray((2,), np.uint64, buffer=_DUMMY_BYTES, strides=(1
 _DUMMY32 = np.ndarray((2, 2), np.uint32, buffer=np.zeros(32, np.uint8), strides=(1, 0))
 
 
-#: ``antialias="area"`` on uint8 images through maps other than Mobius maps: one box tap
-#: over a long footprint where a box stands for it (``_kernels._area_counts``), from the
-#: input's row prefix sums, instead of supersampling it (the tests switch it off to
-#: compare the fixed-point 4 x 4 taps with the float ones, which have no wide taps)
-WIDE_TAPS = True
-_DUMMY_PREFIX = (_readonly(np.zeros((1, 2, 1), np.uint16)), _DUMMY64)
-
-
-def _row_prefix(src: NDArray[np.uint8], threads: int | None) -> tuple[NDArray[np.uint16], Any]:
-    """Row prefix sums of a uint8 image, mod 2**16 (``(h, w + 1, c)``), for the wide area
-    taps (``_kernels.area_wide_u8``; twice the image's memory), and a uint64 view that
-    loads all channels of one column at once (8 bytes from the column's first)."""
-    h, w, c = src.shape
-    n = h * (w + 1) * c
-    flat = np.zeros(n + 4, np.uint16)  # slack for the last column's 8-byte load
-    prefix = flat[:n].reshape(h, w + 1, c)
-    _run(_kernels().row_prefix_u8, (src, prefix), threads, h)
-    p64 = np.ndarray((h * (w + 1),), np.uint64, buffer=flat, strides=(2 * c,))
-    return _readonly(prefix), _readonly(p64)
-
-
 def _u8_views(src: NDArray[np.uint8], out: NDArray[np.uint8]) -> tuple[Any, Any, int, Any]:
     """Unaligned views for the two-taps-a-load path (see ``_kernels``)."""
     c = src.shape[2]
@@ -507,17 +486,10 @@ def render_spec(
         p64, tail, big, o32 = _DUMMY64, _DUMMY64, 0, _DUMMY32
     fast_f = src.dtype == np.float32 and interp == "bilinear" and out.shape[2] == src.shape[2]
     fimg = _readonly(src.reshape(-1)) if fast_f else _DUMMY_F32
-    # long footprints that a box stands for: one box tap (uint8), where the map is dear; a
-    # Mobius map is cheap to pull parts back through, and keeps them (as fast, 0.2-1.8 dB
-    # better on a zoom, not a box where a footprint lies aslant)
-    mobius = spec.codes.shape[0] == 1 and spec.codes[0] == STAGE_KINDS["mobius"][0]
-    wide = area and fast and WIDE_TAPS and not mobius
-    prefix = _row_prefix(src, threads) if wide else _DUMMY_PREFIX
     th, tw = TILE
     args = (
         _image_bundle(src), p64, tail, big, o32, _output_bundle(out), h_out, w_out, out.shape[2],
-        fast, fast_f, fimg, prefix[0], prefix[1], wide, spec.codes, spec.params, ccos, csin,
-        tabs, kx, ky,
+        fast, fast_f, fimg, spec.codes, spec.params, ccos, csin, tabs, kx, ky,
         do_aa, aa_kx, aa_ky, tol, cap, uniform, jumps, rho_in, _aa.JUMP_SAMPLES, area,
         INTERP_CODES[interp], np.asarray(background, np.float32), is_int, maxval, full,
         th, tw,

@@ -162,12 +162,10 @@ def warp(
         on a jump of the map (a Droste seam) get 4 x 4 samples. ``"area"``:
         every pixel is the average of the bilinear image over its footprint
         (4 x 4 fixed-point taps of tent * box in closed form; a footprint over
-        2 input pixels is split along its axes and each part pulled back, or,
-        on uint8 images where it is a straight box up to 2 pixels tall, one box
-        tap from the input's row prefix sums): what heavy supersampling gives,
-        at about 1/5 of the time of uniform 4 x 4 and 4-6 times that of
-        ``"none"`` (more where the map sends many pixels next to the input's
-        poles). Bilinear maps with compiled stages; elsewhere it is
+        2 input pixels is split along its axes and each part pulled back):
+        what heavy supersampling gives, at about 1/5 of the time of uniform
+        4 x 4 and 4-6 times that of ``"none"`` (more where the map sends many
+        pixels next to the input's poles). Bilinear maps with compiled stages; elsewhere it is
         uniform 4 x 4. ``"none"``: one sample a pixel. ``N``: ``N x N``
         samples in every pixel.
     background : number or sequence, optional
