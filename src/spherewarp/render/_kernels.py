@@ -834,6 +834,18 @@ def mobius_to_source(cl, sl, cc, cs, p, n, kx, ky, T, u, v):
 
 
 @njit(**_H)
+def _edge_source(cl, sl, ecc, ecs, codes, params, mob1, kx, ky, EF, evalid):
+    """Tap-space source points ``EF[5:7]`` of the two columns ``ecc, ecs`` (cos/sin of
+    their longitudes) of the row at ``cl, sl`` (``EF``: ``T, X, Y, Z, G, u, v`` rows)."""
+    if mob1:
+        mobius_to_source(cl, sl, ecc, ecs, params[0], 2, kx, ky, EF[0], EF[5], EF[6])
+        return
+    _directions(cl, sl, ecc, ecs, 2, EF[0], EF[1], EF[2], EF[3], EF[4], evalid)
+    run_stages(codes, params, EF[0], EF[1], EF[2], EF[3], EF[4], evalid, 2)
+    to_source(EF[1], EF[2], EF[3], 2, kx, ky, EF[5], EF[6])
+
+
+@njit(**_H)
 def _directions(cl, sl, cc, cs, n, T, X, Y, Z, G, valid):
     for k in range(n):
         T[k] = 1.0
@@ -1203,7 +1215,7 @@ def area_batch(img, U, V, BX, BY, n, keep, own, acc, cover, WS, X0, Y0):
 
 
 @njit(**_V)
-def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BX, BY, S):
+def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BX, BY, S, E):
     """Footprints (``J``, boxes ``BX x BY``) and samples per pixel of
     ``antialias="area"``; returns the number of special pixels.
 
@@ -1212,7 +1224,9 @@ def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, 
     column is a difference of the source coordinates along the row: the mean of
     the left and right ones where they agree, else the shorter (so that a jump
     next door does not count); the second follows from it because the map is
-    conformal: on the sphere the image of the output's north step is the image of
+    conformal (``E``: the tap-space source points ``(u, v)`` of the columns just
+    left and right of the chunk, round the seam, ``E[0:2, 0]`` and ``E[0:2, 1]``):
+    on the sphere the image of the output's north step is the image of
     its east step turned by a right angle and scaled by their ratio ``q``
     (``cos(lat_src)`` converts between the chart and the sphere). The footprint's
     box in the input is ``BX x BY``, the lengths of the rows of ``J`` (a box with
@@ -1221,8 +1235,7 @@ def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, 
     footprint is longer gets ``ceil(L / sqrt 2)`` samples along each of its axes
     (``L`` the length of that column of ``J``, at most ``cap``), each pulled back
     through the map and an area tap over its share of the footprint
-    (:func:`_subsamples`): it is ``special``, as an undefined pixel is. A chunk of
-    one pixel has no neighbour to difference with: it gets a plain bilinear tap.
+    (:func:`_subsamples`): it is ``special``, as an undefined pixel is.
     ``S``: scratch, ``(3, >= n + 1)``.
     """
     q = wo / (2.0 * ho * cl)
@@ -1241,14 +1254,14 @@ def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, 
         d = d - wi if d > half else d
         DU[k] = d + wi if d < -half else d
         DV[k] = V[k] - V[k - 1]
-    if n > 1:
-        DU[0] = DU[1]
-        DV[0] = DV[1]
-    else:
-        DU[0] = 0.0
-        DV[0] = 0.0
-    DU[n] = DU[n - 1]
-    DV[n] = DV[n - 1]
+    d = U[0] - E[0, 0]
+    d = d - wi if d > half else d
+    DU[0] = d + wi if d < -half else d
+    DV[0] = V[0] - E[1, 0]
+    d = E[0, 1] - U[n - 1]
+    d = d - wi if d > half else d
+    DU[n] = d + wi if d < -half else d
+    DV[n] = E[1, 1] - V[n - 1]
     nsp = 0
     f = np.float32
     q32 = f(q)
@@ -1897,6 +1910,10 @@ def render_spec(
     own = np.empty(nsb, np.int64)
     sv = np.empty(nsb, np.uint8)
     mob1 = codes.shape[0] == 1 and codes[0] == STAGE_LORENTZ  # the common case, fused
+    ecc = np.empty(2)
+    ecs = np.empty(2)
+    EF = np.ones((7, 2))
+    evalid = np.ones(2, np.uint8)
     G[:] = 1.0
     valid[:] = 1
     # jump mode: rows above / current / below (slots rotate), each w + 2 columns
@@ -1928,6 +1945,10 @@ def render_spec(
         ty0, tx0, h, w = _tile(tt, ntx, th, tw, ho, wo)
         cc = ccos[tx0 : tx0 + w]
         cs = csin[tx0 : tx0 + w]
+        ecc[0] = ccos[(tx0 - 1) % wo]  # the columns either side of the chunk
+        ecc[1] = ccos[(tx0 + w) % wo]
+        ecs[0] = csin[(tx0 - 1) % wo]
+        ecs[1] = csin[(tx0 + w) % wo]
         sa = 0
         sc = 1
         sn = 2
@@ -1964,9 +1985,11 @@ def render_spec(
                 to_source(X, Y, Z, w, kx, ky, U, V)
             nsp = 0
             if area:
+                _edge_source(cl, sl, ecc, ecs, codes, params, mob1, kx, ky, EF, evalid)
                 nsp = _area_counts(
-                    U, V, valid, w, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BXc, BYc, AS
-                )
+                    U, V, valid, w, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BXc, BYc, AS,
+                    EF[5:7],
+                )  # fmt: skip
             elif do_aa:
                 nsp = _counts(T, G, valid, w, cl, aa_kx, aa_ky, tol, cap, uniform, nx, ny, special)
             if do_aa:
