@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from spherewarp.errors import InvalidValueError
-from spherewarp.render.sampling import INTERPOLATIONS, check_interp, sample
+from spherewarp.render.sampling import INTERPOLATIONS, check_interp, sample, sample_area
 
 PROPERTY = settings(max_examples=100, deadline=None)
 
@@ -147,3 +147,34 @@ def test_check_interp_errors(name):
 def test_sample_rejects_bad_shape():
     with pytest.raises(InvalidValueError):
         sample(np.zeros((4, 8)), np.zeros(2), np.zeros(2))
+
+
+# -- area taps -------------------------------------------------------------------------------
+def _dense_box_mean(img, x, y, bx, by, n=64):
+    """The bilinear surface averaged over a box by brute force (n x n midpoints)."""
+    f = (np.arange(n) + 0.5) / n - 0.5
+    xs = (x + bx * f)[None, :].repeat(n, 0)
+    ys = (y + by * f)[:, None].repeat(n, 1)
+    return sample(img, xs, ys, "bilinear").reshape(-1, img.shape[2]).mean(0)
+
+
+@pytest.mark.parametrize(
+    "x, y, bx, by",
+    [
+        (5.3, 3.7, 1.0, 1.0),
+        (0.2, 4.1, 2.0, 0.5),  # across the seam
+        (15.9, 0.3, 1.5, 1.2),  # across the seam and over the top pole
+        (7.6, 7.8, 0.3, 2.0),  # over the bottom pole
+        (3.5, 2.5, 1e-6, 1e-6),  # a bilinear tap
+    ],
+)
+def test_sample_area_is_the_mean_of_the_bilinear_surface(x, y, bx, by):
+    img = _image(8, 2, np.float32, seed=4)
+    got = sample_area(img, np.array([x]), np.array([y]), bx, by)[0]
+    np.testing.assert_allclose(got, _dense_box_mean(img, x, y, bx, by), atol=2e-3)
+
+
+def test_sample_area_clamps_boxes_to_two_pixels():
+    img = _image(8, 1, np.float32, seed=5)
+    x, y = np.array([4.2]), np.array([3.9])
+    np.testing.assert_array_equal(sample_area(img, x, y, 5.0, 9.0), sample_area(img, x, y, 2, 2))

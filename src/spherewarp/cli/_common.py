@@ -120,22 +120,26 @@ class SizeType(click.ParamType):
 
 
 class AntialiasType(click.ParamType):
-    """``auto``, ``area``, ``none`` or an integer N (uniform NxN supersampling)."""
+    """``auto``, ``area``, ``adaptive``, ``none`` or an integer N (uniform NxN supersampling)."""
 
-    name = "auto|area|none|N"
+    name = "auto|area|adaptive|none|N"
 
     def convert(self, value: Any, param: Any, ctx: Any) -> str | int:
         if isinstance(value, int) and not isinstance(value, bool):
             return value
         text = str(value).strip().lower()
-        if text in ("auto", "area", "none"):
+        if text in ("auto", "area", "adaptive", "none"):
             return text
         try:
             n = int(text)
         except ValueError:
             n = 0
         if not 1 <= n <= 16:
-            self.fail(f"expected auto, area, none or an integer 1..16, got {value!r}", param, ctx)
+            self.fail(
+                f"expected auto, area, adaptive, none or an integer 1..16, got {value!r}",
+                param,
+                ctx,
+            )
         return n
 
 
@@ -264,9 +268,10 @@ def render_options(func: Callable) -> Callable:
             type=AntialiasType(),
             default="auto",
             show_default=True,
-            help="auto: supersample only where the map shrinks the input (by its derivative); "
-            "area: average every pixel's footprint (as heavy supersampling does, in about 1/5 "
-            "of the time of 4x4); none; or N for uniform NxN.",
+            help="auto: 'area' for a map that shrinks the input somewhere, else one bilinear "
+            "tap a pixel; area: average every pixel's footprint (as heavy supersampling does, "
+            "in about 1/5 of the time of 4x4); adaptive: supersample only where a pixel covers "
+            "several input pixels (sharper, cheaper); none; or N for uniform NxN.",
         ),
         click.option(
             "--threads",

@@ -1,11 +1,33 @@
-"""Adaptive anti-aliasing: how many samples each output pixel needs.
+"""Anti-aliasing from the map's derivative: how each output pixel is filtered.
 
-A conformal map magnifies a small disc by its local scale ``s`` (the
-spherical magnification, :meth:`~spherewarp.maps.SphereMap.local_scale`) and
-turns it, without shearing it. An output pixel of an equirectangular image
-of size ``W_out x H_out`` at latitude ``lat`` spans ``2 pi cos(lat) / W_out``
-by ``pi / H_out`` radians, so its pre-image in the input spans ``s`` times
-that, which is
+``antialias="auto"`` (the default) is one of two filters (:func:`resolve_auto`):
+
+* ``"area"`` for a map that shrinks the input somewhere (a zoom, a downscale,
+  the branched, exp, Droste and Lattès maps): every pixel is the average of
+  the input's bilinear surface over the pixel's footprint, what a heavily
+  supersampled render converges to. The footprint is the map's Jacobian in
+  the input's chart (:func:`area_footprints`; the compiled renderer computes
+  the same); footprints up to 2 input pixels a side are one closed-form area
+  tap (4 x 4 taps of tent * box), longer ones are split along their axes and
+  each part pulled back through the map.
+* ``"adaptive"`` for a map that shrinks nowhere (a rotation, an enlargement):
+  there it is one bilinear tap a pixel, as sharp as the input allows and
+  what the peers (ffmpeg's v360) do.
+
+The area filter is what matches a supersampled reference render: it averages
+every pixel, including those the map enlarges, where a single tap differs
+from the average of the surface over the pixel (``bench/aa_profile.py``
+measures it). A rotation is left sharp because nothing needs filtering there.
+
+``"adaptive"`` (also a mode of its own, and :class:`~spherewarp.render.cache.WarpMap`'s
+``auto``: its samples can be cached) supersamples only where a pixel's footprint
+covers more than one input pixel. A conformal map magnifies a small disc by
+its local scale ``s`` (the spherical magnification,
+:meth:`~spherewarp.maps.SphereMap.local_scale`) and turns it, without
+shearing it. An output pixel of an equirectangular image of size
+``W_out x H_out`` at latitude ``lat`` spans ``2 pi cos(lat) / W_out`` by
+``pi / H_out`` radians, so its pre-image in the input spans ``s`` times that,
+which is
 
 * ``nx = s cos(lat) (2 pi / W_out) / rho`` input pixels along the image of
   the output's rows, and
@@ -15,27 +37,23 @@ with ``rho = min(pi / H_in, 2 pi / W_in)`` the angular size of an input pixel.
 Since the map is conformal these two numbers hold whatever the rotation. A
 bilinear tap is a fine filter for a footprint up to about one input pixel;
 beyond that the pixel is supersampled on a ``ceil(nx - tol) x ceil(ny - tol)``
-grid (capped), and only there: on a rotation nothing is supersampled at all.
+grid (capped), and only there.
 
 The magnification says nothing where the map jumps (the seams between the
 copies of a Droste image): an output pixel there straddles points far apart
 in the input. :func:`jump_mask` finds them by comparing the distance between
 the source points of neighbouring pixels with what the magnification allows,
-and those pixels get ``JUMP_SAMPLES x JUMP_SAMPLES`` samples. The compiled
-renderer makes the same test in its kernel (for maps with a stage in
+and those pixels get ``JUMP_SAMPLES x JUMP_SAMPLES`` samples, in both modes. The
+compiled renderer makes the same test in its kernel (for maps with a stage in
 :data:`spherewarp.render.fast.JUMP_KINDS`), and cached maps
 (:class:`~spherewarp.render.cache.WarpMap`) call :func:`jump_mask`, so all
-three paths supersample the same pixels.
-
-What ``auto`` does not do is filter pixels whose footprint is under one input
-pixel: they get one bilinear tap, the sharpest choice and what a rotation
-needs. A supersampled reference averages the bilinear surface over every
-pixel, so it differs from ``auto`` there (measured by ``bench/aa_profile.py``).
+three paths treat the same pixels.
 
 The equirectangular input is oversampled along its rows near its poles
-(``rho`` is the size of a pixel at the equator), so a footprint there is not
-made smaller by the input's tiny pole pixels: the sampling rate follows the
-sphere, not the chart.
+(``rho`` is the size of a pixel at the equator), so in ``"adaptive"`` a footprint
+there is not made smaller by the input's tiny pole pixels: the sampling rate
+follows the sphere, not the chart. The area filter follows the chart, as a
+supersampled render does.
 """
 
 from __future__ import annotations
@@ -48,13 +66,16 @@ from numpy.typing import NDArray
 from ..errors import InvalidValueError
 
 __all__ = [
+    "AREA_SPLIT",
     "AUTO_DENSITY",
     "AUTO_MAX",
     "AUTO_TOLERANCE",
     "JUMP_SAMPLES",
+    "area_footprints",
     "footprint_factors",
     "jump_mask",
     "parse_antialias",
+    "resolve_auto",
     "sample_counts",
     "subsample_offsets",
 ]
@@ -70,6 +91,10 @@ AUTO_MAX = 8
 MAX_UNIFORM = 32
 #: samples per axis, in ``"auto"``, for pixels on a jump of the map (a seam of a Droste map)
 JUMP_SAMPLES = 4
+#: in ``"area"``, a footprint whose axis is longer than this many input pixels is split along
+#: it into ``ceil(length / AREA_SPLIT - AUTO_TOLERANCE)`` parts (one area tap holds a box of
+#: up to 2 x 2 input pixels, and a turned part of ``sqrt 2`` fits in one)
+AREA_SPLIT = math.sqrt(2.0)
 #: what ``"area"`` renders as where the area filter is not compiled (maps without kernel
 #: stages, several input images, interpolations other than bilinear, cached maps): uniform
 #: supersampling, which the area filter approximates
@@ -79,8 +104,9 @@ AREA_FALLBACK = ("uniform", 4)
 def parse_antialias(antialias: str | int | None, supersample: int | None = None) -> tuple[str, int]:
     """Normalise the anti-aliasing options to ``(mode, n)``.
 
-    ``mode`` is ``"none"``, ``"auto"``, ``"area"`` or ``"uniform"`` (``n x n``
-    samples a pixel). ``supersample`` is the older option for uniform supersampling:
+    ``mode`` is ``"none"``, ``"auto"``, ``"area"``, ``"adaptive"`` or ``"uniform"``
+    (``n x n`` samples a pixel); :func:`resolve_auto` turns ``"auto"`` into one of
+    the others for a given map. ``supersample`` is the older option for uniform supersampling:
     a value above 1 wins over ``antialias``; 1 (its old default) or None
     leave the choice to ``antialias``.
 
@@ -88,8 +114,8 @@ def parse_antialias(antialias: str | int | None, supersample: int | None = None)
     --------
     >>> parse_antialias("AUTO"), parse_antialias("none"), parse_antialias(4), parse_antialias("3")
     (('auto', 0), ('none', 1), ('uniform', 4), ('uniform', 3))
-    >>> parse_antialias("area")
-    ('area', 0)
+    >>> parse_antialias("area"), parse_antialias("adaptive")
+    (('area', 0), ('adaptive', 0))
     >>> parse_antialias("auto", supersample=1), parse_antialias("none", supersample=2)
     (('auto', 0), ('uniform', 2))
     """
@@ -108,8 +134,10 @@ def parse_antialias(antialias: str | int | None, supersample: int | None = None)
         return ("none", 1)
     if isinstance(antialias, str):
         name = antialias.strip().lower()
-        if name in ("auto", "adaptive"):
+        if name == "auto":
             return ("auto", 0)
+        if name == "adaptive":
+            return ("adaptive", 0)
         if name in ("none", "off", "no"):
             return ("none", 1)
         if name == "area":
@@ -124,7 +152,8 @@ def parse_antialias(antialias: str | int | None, supersample: int | None = None)
         n = int(antialias)
         return ("none", 1) if n == 1 else ("uniform", n)
     raise InvalidValueError(
-        f"expected antialias to be 'auto', 'area', 'none' or an integer 1..{MAX_UNIFORM}, "
+        f"expected antialias to be 'auto', 'area', 'adaptive', 'none' or an integer "
+        f"1..{MAX_UNIFORM}, "
         f"got {antialias!r}"
     )
 
@@ -259,3 +288,110 @@ def jump_mask(
     mask[:-1] |= vj
     mask[1:] |= vj
     return mask[:-1]
+
+
+def resolve_auto(aa: tuple[str, int], interp: str, shrinks: bool) -> tuple[str, int]:
+    """What ``antialias="auto"`` means for one render.
+
+    A map that shrinks the input somewhere (``shrinks``) is rendered with the
+    area filter, every pixel averaged over its footprint (``("area", 0)``); one
+    that shrinks nowhere (a rotation or an enlargement: no pixel covers more
+    than one input pixel) with ``("adaptive", 0)``, which then takes one
+    bilinear tap a pixel, as sharp as the input allows. The area filter is
+    defined on the bilinear surface, so other interpolations take
+    ``"adaptive"`` too. Other modes pass through.
+
+    Examples
+    --------
+    >>> resolve_auto(("auto", 0), "bilinear", True), resolve_auto(("auto", 0), "bilinear", False)
+    (('area', 0), ('adaptive', 0))
+    >>> resolve_auto(("auto", 0), "bicubic", True), resolve_auto(("uniform", 4), "bilinear", True)
+    (('adaptive', 0), ('uniform', 4))
+    """
+    if aa[0] != "auto":
+        return aa
+    return ("area", 0) if shrinks and interp == "bilinear" else ("adaptive", 0)
+
+
+def area_footprints(
+    u: NDArray[np.floating],
+    v: NDArray[np.floating],
+    valid: NDArray[np.bool_] | None,
+    lat_out: NDArray[np.floating],
+    in_shape: tuple[int, int],
+    out_shape: tuple[int, int],
+    tol: float = AUTO_TOLERANCE,
+    cap: int = AUTO_MAX,
+) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]]:
+    """Footprints and parts per axis of ``antialias="area"`` for whole output rows.
+
+    The NumPy counterpart of the compiled renderer's footprints. The
+    footprint of a pixel in the input's chart is the Jacobian ``J = (du/dx,
+    du/dy, dv/dx, dv/dy)`` (input pixels per output pixel). Its first column
+    is the difference of the source coordinates along the row (round the
+    seam): the mean of the left and right ones where they agree within a
+    factor of 2, else the shorter, so that a jump next door does not count.
+    The second column follows because the map is conformal: on the sphere the
+    image of the output's north step is the image of its east step turned by
+    a right angle and scaled by the ratio of the steps. A pixel whose axis
+    ``L`` (a column of ``J``) is long is split along it into
+    ``ceil(L / AREA_SPLIT - tol)`` parts (at most ``cap``).
+
+    Parameters
+    ----------
+    u, v : ndarray, shape (rows, W)
+        Source points of the pixel centres in tap space (input pixel
+        coordinates minus 1/2), whole rows of the output.
+    valid : ndarray of bool, shape (rows, W), or None
+        Where the map is defined; undefined pixels get a zero footprint.
+    lat_out : ndarray, shape (rows,)
+        Latitude of each row (radians).
+    in_shape, out_shape : (height, width)
+
+    Returns
+    -------
+    J : ndarray, shape (4, rows, W)
+    nx, ny : ndarray of int64, shape (rows, W)
+        Parts along the footprint's two axes.
+
+    Examples
+    --------
+    The identity at half the input's size: every footprint is 2 x 2 input
+    pixels, two parts along each axis.
+
+    >>> y, x = np.mgrid[0:4, 0:8] + 0.5
+    >>> J, nx, ny = area_footprints(2 * x - 0.5, 2 * y - 0.5, None, np.radians([67.5, 22.5,
+    ...     -22.5, -67.5]), (8, 16), (4, 8))
+    >>> J[:, 1, 0].round(6).tolist(), int(nx[1, 0]), int(ny[1, 0])
+    ([2.0, 0.0, 0.0, 2.0], 2, 2)
+    """
+    h_in, w_in = in_shape
+    h_out, w_out = out_shape
+    u = np.asarray(u, np.float64)
+    v = np.asarray(v, np.float64)
+    ok = np.ones(u.shape, bool) if valid is None else np.asarray(valid, bool)
+    u = np.where(ok, u, 0.0)
+    v = np.where(ok, v, 0.0)
+    half = 0.5 * w_in
+    # differences to the left neighbour (round the seam); the right one is the next's
+    du_l = u - np.roll(u, 1, axis=1)
+    du_l = np.where(du_l > half, du_l - w_in, np.where(du_l < -half, du_l + w_in, du_l))
+    dv_l = v - np.roll(v, 1, axis=1)
+    if u.shape[1] < 2:
+        du_l = np.zeros_like(u)
+        dv_l = np.zeros_like(v)
+    du_r = np.roll(du_l, -1, axis=1)
+    dv_r = np.roll(dv_l, -1, axis=1)
+    ll = du_l**2 + dv_l**2
+    lr = du_r**2 + dv_r**2
+    left = ll <= lr
+    near = 4.0 * np.minimum(ll, lr) >= np.maximum(ll, lr)
+    du = np.where(near, 0.5 * (du_l + du_r), np.where(left, du_l, du_r))
+    dv = np.where(near, 0.5 * (dv_l + dv_r), np.where(left, dv_l, dv_r))
+    cs = np.maximum(np.sin(np.pi / h_in * (v + 0.5)), 1e-9)  # cos(latitude) of the source
+    q = (w_out / (2.0 * h_out * np.cos(np.asarray(lat_out, np.float64))))[:, None]
+    J = np.stack([du, -q * dv / cs, dv, q * du * cs])
+    J[:, ~ok] = 0.0
+    nx = np.clip(np.ceil(np.hypot(J[0], J[2]) / AREA_SPLIT - tol), 1, cap).astype(np.int64)
+    ny = np.clip(np.ceil(np.hypot(J[1], J[3]) / AREA_SPLIT - tol), 1, cap).astype(np.int64)
+    return J, nx, ny

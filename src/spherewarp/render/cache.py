@@ -72,10 +72,15 @@ class WarpMap:
     Build with :meth:`build`; :meth:`apply` gives the same image as
     :func:`~spherewarp.render.warp` with the same options (to the rounding of
     the stored coordinates: 1/256 pixel for bilinear taps, float32
-    otherwise), at the cost of sampling alone. ``antialias="area"`` is the
-    exception: its taps would take more memory than the image (16 bytes
-    each), so where it is compiled :meth:`apply` renders on the fly, the image
-    of :func:`~spherewarp.render.warp` exactly, and the map holds nothing.
+    otherwise), at the cost of sampling alone. Two exceptions:
+
+    * ``antialias="auto"`` (the default) is ``"adaptive"`` here: supersampling
+      where a pixel covers more than one input pixel, whose samples are cached.
+      :func:`~spherewarp.render.warp`'s ``"auto"`` uses the area filter for a
+      map that shrinks the input somewhere, which is not cached.
+    * ``antialias="area"``: its taps would take more memory than the image (16
+      bytes each), so :meth:`apply` renders on the fly, the image of
+      :func:`~spherewarp.render.warp` exactly, and the map holds nothing.
 
     Attributes
     ----------
@@ -129,9 +134,8 @@ class WarpMap:
         out_shape : (height, width), optional
             Default: ``in_shape``.
         interp, antialias, supersample, force, threads
-            As for :func:`~spherewarp.render.warp`. ``antialias="area"`` with a map
-            that has compiled stages is not cached (see the class); without them
-            it is uniform 4 x 4, as in :func:`~spherewarp.render.warp`.
+            As for :func:`~spherewarp.render.warp`, but ``antialias="auto"`` is
+            ``"adaptive"``, and ``"area"`` is not cached (see the class).
 
         Raises
         ------
@@ -157,20 +161,22 @@ class WarpMap:
         )
         interp = check_interp(interp)
         mode, n = _aa.parse_antialias(antialias, supersample)
+        if mode == "auto":  # cacheable: the adaptive supersampling
+            mode = "adaptive"
         use_jit = fast.available()
         spec = fast.kernel_spec(inverse_map) if use_jit else None
-        if mode == "area" and spec is not None and interp == "bilinear":
+        if mode == "area" and interp == "bilinear":
             # the area filter is not cached (its taps would take 16 bytes each, more than
             # the image): apply renders on the fly, the same image as warp
             empty = np.empty(0, np.int64)
             return cls(
                 in_shape=(h_in, w_in), out_shape=(h_out, w_out), interp=interp,
-                antialias=(mode, n), _spec=spec, _oa=np.empty(0, np.int32),
+                antialias=(mode, n), _live=inverse_map, _oa=np.empty(0, np.int32),
                 _wt=np.empty(0, np.uint16), _sp_pix=empty, _sp_start=np.zeros(1, np.int64),
                 _sp_u=np.empty(0, np.float32), _sp_v=np.empty(0, np.float32),
                 _sp_valid=np.empty(0, np.uint8), _sp_tile=empty,
             )  # fmt: skip
-        if mode == "area":  # not compiled: uniform supersampling, which it approximates
+        if mode == "area":  # not bilinear: uniform supersampling, which it approximates
             mode, n = _aa.AREA_FALLBACK
         th, tw = fast.TILE
         nty, ntx = -(-h_out // th), -(-w_out // tw)
@@ -193,7 +199,7 @@ class WarpMap:
         sp_tile = np.zeros(nty * ntx + 1, np.int64)
         ccols = np.arange(w_out) + 0.5
         rho_in = min(np.pi / h_in, 2 * np.pi / w_in)
-        jumps = mode == "auto" and (
+        jumps = mode == "adaptive" and (
             spec is None or bool(np.isin(spec.codes, fast.jump_codes()).any())
         )
 
@@ -211,7 +217,7 @@ class WarpMap:
             valid = np.ones(src.shape[:-1], bool) if pb.valid is None else pb.valid
             scale = (
                 np.nan_to_num(inverse_map.local_scale(zw), nan=1.0, posinf=1e6)
-                if mode == "auto"
+                if mode == "adaptive"
                 else None
             )
             return src[..., 0] - 0.5, src[..., 1] - 0.5, scale, valid
@@ -238,7 +244,7 @@ class WarpMap:
                 u, v, scale, valid = u[inner], v[inner], scale[inner], valid[inner]
             if mode == "uniform":
                 nx = ny = np.full(u.shape, n, np.int64)
-            elif mode == "auto":
+            elif mode == "adaptive":
                 lat = (np.pi / 2 - np.pi * (np.arange(r0, r1) + 0.5) / h_out)[:, None]
                 nx, ny = _aa.sample_counts(
                     scale, np.broadcast_to(lat, u.shape), factors, _aa.AUTO_TOLERANCE, _aa.AUTO_MAX
@@ -397,11 +403,15 @@ class WarpMap:
                 f"out: expected a writeable C-contiguous {img.dtype} array of shape {shape}"
             )
         bg = _background(background, c)
-        if getattr(self, "_spec", None) is not None:  # antialias="area": on the fly
-            fast.render_spec(
-                img, self._spec, out, interp=self.interp, aa=("area", 0), background=bg,
-                threads=threads,
+        live = getattr(self, "_live", None)
+        if live is not None:  # antialias="area": on the fly
+            from .warp import warp
+
+            res = warp(
+                img, live, output_shape=self.out_shape, antialias="area", background=background,
+                alpha=alpha, force=True, threads=threads,
             )  # fmt: skip
+            out[...] = res
         elif fast.available():
             self._apply_jit(fast._native(img), out, bg, threads)
         else:

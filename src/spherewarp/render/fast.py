@@ -464,14 +464,14 @@ def render_spec(
     aa_kx *= _aa.AUTO_DENSITY
     aa_ky *= _aa.AUTO_DENSITY
     tol = float(_aa.AUTO_TOLERANCE)
+    shrinks = spec.max_scale * max(aa_kx, aa_ky) > 1.0 + tol
+    aa = _aa.resolve_auto(aa, interp, shrinks)
     if aa[0] == "area" and interp != "bilinear":
         aa = _aa.AREA_FALLBACK
     mode, n = aa
     area = mode == "area"
-    cap = _aa.AUTO_MAX if mode in ("auto", "area") else max(1, n)
-    do_aa = mode in ("uniform", "area") or (
-        mode == "auto" and spec.max_scale * max(aa_kx, aa_ky) > 1.0 + tol
-    )
+    cap = _aa.AUTO_MAX if mode in ("adaptive", "area") else max(1, n)
+    do_aa = mode in ("uniform", "area") or (mode == "adaptive" and shrinks)
     uniform = n if mode == "uniform" else 0
     jumps = bool(np.isin(spec.codes, jump_codes()).any())
     rho_in = min(math.pi / h_in, 2 * math.pi / w_in)
@@ -561,6 +561,35 @@ def subsample_coords(
     )  # fmt: skip
     _run(k.spec_subsample_coords, args, threads, -(-n // 1024))
     return u, v, valid.astype(bool)
+
+
+def area_samples(
+    src: NDArray,
+    u: NDArray[np.float64],
+    v: NDArray[np.float64],
+    bx: NDArray[np.float64],
+    by: NDArray[np.float64],
+    valid: NDArray[np.bool_] | None,
+    own: NDArray[np.int64],
+    n_pixels: int,
+) -> tuple[NDArray[np.float32], NDArray[np.int64]]:
+    """Compiled area taps of given samples (tap space ``u, v``, boxes ``bx x by`` input
+    pixels), summed per pixel: ``(acc, cover)``, the sums of the valid samples of
+    each pixel ``own[k]`` (shape ``(n_pixels, C)``) and how many there were."""
+    k = _kernels()
+    src = _native(src)
+    n = len(u)
+    keep = np.ones(n, np.uint8) if valid is None else np.ascontiguousarray(valid, np.uint8)
+    acc = np.zeros((n_pixels, src.shape[2]), np.float32)
+    cover = np.zeros(n_pixels, np.int64)
+    f64 = np.float64
+    k.area_batch(
+        _image_bundle(src), np.ascontiguousarray(u, f64), np.ascontiguousarray(v, f64),
+        np.ascontiguousarray(bx, f64), np.ascontiguousarray(by, f64), n, keep,
+        np.ascontiguousarray(own, np.int64), acc, cover, np.empty((8, n), np.float32),
+        np.empty(n, np.int64), np.empty(n, np.int64),
+    )  # fmt: skip
+    return acc, cover
 
 
 def sample_samples(

@@ -19,9 +19,10 @@ Two paths render the same pull-back:
 * the reference path (``method="reference"``, or when numba is missing):
   float64 NumPy throughout, the yardstick the fast path is tested against.
 
-Anti-aliasing (``antialias="auto"``, the default) supersamples only the
-pixels whose footprint in the input covers more than about one input pixel,
-from the map's local magnification (:mod:`spherewarp.render.antialias`).
+Anti-aliasing (``antialias="auto"``, the default) averages every pixel over
+its footprint in the input (the area filter) when the map shrinks the input
+somewhere, and takes one bilinear tap a pixel when it shrinks nowhere (a
+rotation); see :mod:`spherewarp.render.antialias`.
 """
 
 from __future__ import annotations
@@ -36,7 +37,7 @@ from .. import coords
 from ..errors import InvalidTypeError, InvalidValueError
 from ..maps.base import SphereMap
 from . import antialias as _aa
-from .sampling import check_interp, sample
+from .sampling import check_interp, sample, sample_area
 
 __all__ = ["warp", "push", "check_equirect", "as_image"]
 
@@ -154,20 +155,25 @@ def warp(
         Above 1: average ``supersample x supersample`` samples in every
         output pixel (the same as ``antialias=supersample``, and it wins over
         ``antialias``); 1 or None leave it to ``antialias``.
-    antialias : "auto", "area", "none" or int
-        ``"auto"`` (default): supersample only where an output pixel covers
-        more than about one input pixel, as many samples as its footprint
-        needs (up to 8 x 8), from the map's local magnification; nothing is
-        supersampled where the map does not shrink (a rotation), and pixels
-        on a jump of the map (a Droste seam) get 4 x 4 samples. ``"area"``:
-        every pixel is the average of the bilinear image over its footprint
-        (4 x 4 fixed-point taps of tent * box in closed form; a footprint over
+    antialias : "auto", "area", "adaptive", "none" or int
+        ``"auto"`` (default): ``"area"`` for a map that shrinks the input
+        somewhere (a pixel covers more than about one input pixel: a zoom, a
+        downscale, the branched, exp, Droste and Lattès maps), else one
+        bilinear tap a pixel (a rotation, an enlargement: as sharp as the
+        input); ``"adaptive"`` where the interpolation is not bilinear.
+        ``"area"``: every pixel is the average of the bilinear image over its
+        footprint (4 x 4 taps of tent * box in closed form; a footprint over
         2 input pixels is split along its axes and each part pulled back):
-        what heavy supersampling gives, at about 1/5 of the time of uniform
-        4 x 4 and 4-6 times that of ``"none"`` (more where the map sends many
-        pixels next to the input's poles). Bilinear maps with compiled stages; elsewhere it is
-        uniform 4 x 4. ``"none"``: one sample a pixel. ``N``: ``N x N``
-        samples in every pixel.
+        what heavy supersampling gives, at 1/7-1/5 of the time of uniform
+        4 x 4 and 4-5 times that of ``"none"`` (more where the map sends many
+        pixels next to the input's poles, as the exp variant does).
+        ``"adaptive"``: supersample only where an output pixel covers more
+        than about one input pixel, as many samples as its footprint needs (up
+        to 8 x 8), from the map's local magnification, and pixels on a jump of
+        the map (a Droste seam) with 4 x 4 samples; one bilinear tap elsewhere
+        (sharper and cheaper than ``"area"``, further from a supersampled
+        render). ``"none"``: one sample a pixel. ``N``: ``N x N`` samples in
+        every pixel.
     background : number or sequence, optional
         Colour where the map is undefined, in the image's units (default 0,
         which for an image with alpha means transparent).
@@ -251,24 +257,64 @@ def warp(
             "method='fast' needs numba (pip install numba), which is not importable here"
         )
     single = inverse_map.n_sheets <= 1
-    if method != "reference" and fast.available():
-        if single:
-            spec = fast.kernel_spec(inverse_map)
-            if spec is not None:
-                fast.render_spec(
-                    images[0], spec, out, interp=interp, aa=aa, background=bg, threads=threads
-                )
-                return out
-    if aa[0] == "area":  # the area filter is compiled for maps with kernel stages only
+    spec = fast.kernel_spec(inverse_map) if single and fast.available() else None
+    if aa[0] == "auto":
+        shrinks = shrinks_somewhere(inverse_map, (h_in, w_in), (h_out, w_out), spec)
+        aa = _aa.resolve_auto(aa, interp, shrinks)
+    if aa[0] == "area" and interp != "bilinear":  # the area filter is of the bilinear surface
         aa = _aa.AREA_FALLBACK
     if method != "reference" and fast.available():
+        if spec is not None:
+            fast.render_spec(
+                images[0], spec, out, interp=interp, aa=aa, background=bg, threads=threads
+            )
+            return out
         _warp_by_samples(images, inverse_map, out, interp, aa, bg, "fast", threads)
         return out
-    if aa[0] == "auto":
+    if aa[0] in ("adaptive", "area"):
         _warp_by_samples(images, inverse_map, out, interp, aa, bg, "reference", None)
     else:
         _warp_reference(images, inverse_map, out, interp, aa[1], bg, add_alpha)
     return out
+
+
+def shrinks_somewhere(
+    inverse_map: SphereMap,
+    in_shape: tuple[int, int],
+    out_shape: tuple[int, int],
+    spec: Any = None,
+) -> bool:
+    """Whether an output pixel somewhere covers more than about one input pixel.
+
+    From the bound on the magnification of a map with compiled stages
+    (``spec``, :func:`spherewarp.render.fast.kernel_spec`), else from the map's
+    :meth:`~spherewarp.maps.SphereMap.local_scale` on a 64 x 128 grid of the
+    output. ``antialias="auto"`` filters every pixel by its footprint when this
+    holds (:func:`~spherewarp.render.antialias.resolve_auto`).
+
+    Examples
+    --------
+    >>> from spherewarp.maps import Mobius
+    >>> shrinks_somewhere(Mobius.from_yaw_pitch_roll(30, 20, 10), (512, 1024), (512, 1024))
+    False
+    >>> shrinks_somewhere(Mobius.zoom((0, 0), 2), (512, 1024), (512, 1024))
+    True
+    >>> shrinks_somewhere(Mobius.identity(), (512, 1024), (256, 512))   # a downscale
+    True
+    """
+    kx, ky = _aa.footprint_factors(in_shape, out_shape)
+    limit = 1.0 + _aa.AUTO_TOLERANCE
+    if max(kx, ky) > limit:
+        return True
+    if spec is not None:
+        return bool(spec.max_scale * max(kx, ky) > limit)
+    h, w = 64, 128
+    px = np.stack(np.broadcast_arrays(np.arange(w)[None, :] + 0.5, np.arange(h)[:, None] + 0.5), -1)
+    zw = coords.cp1_from_lonlat(coords.lonlat_from_pixel(px.reshape(-1, 2), w, h))
+    with np.errstate(all="ignore"):
+        scale = np.nan_to_num(np.asarray(inverse_map.local_scale(zw), np.float64), nan=1.0,
+                              posinf=1e6)  # fmt: skip
+    return bool(scale.max(initial=0.0) * max(kx, ky) > limit)
 
 
 def _warp_reference(
@@ -347,6 +393,9 @@ def _warp_by_samples(
     h_out, w_out, co = out.shape
     flat = out.reshape(-1)
     mode, n = aa
+    if mode == "area":
+        _warp_area(images, inverse_map, out, bg, sampler, threads)
+        return
     factors = _aa.footprint_factors((h_in, w_in), (h_out, w_out))
     factors = (factors[0] * _aa.AUTO_DENSITY, factors[1] * _aa.AUTO_DENSITY)
     rho_in = min(np.pi / h_in, 2 * np.pi / w_in)
@@ -354,8 +403,8 @@ def _warp_by_samples(
     cols = np.arange(w_out, dtype=np.float64) + 0.5
     for r0 in range(0, h_out, band):
         r1 = min(h_out, r0 + band)
-        # one row more in "auto": the neighbours of the last row, to find jumps
-        r2 = min(h_out, r1 + 1) if mode == "auto" else r1
+        # one row more in "adaptive": the neighbours of the last row, to find jumps
+        r2 = min(h_out, r1 + 1) if mode == "adaptive" else r1
         rows = np.arange(r0, r2, dtype=np.float64) + 0.5
         px = np.stack(np.broadcast_arrays(cols[None, :], rows[:, None]), -1).reshape(-1, 2)
         lonlat = coords.lonlat_from_pixel(px, w_out, h_out)
@@ -364,48 +413,145 @@ def _warp_by_samples(
         if mode == "uniform":
             nx = np.full(len(px), n, np.int64)
             ny = nx
-        elif mode == "auto":
+        elif mode == "adaptive":
             scale = np.nan_to_num(inverse_map.local_scale(zw), nan=1.0, posinf=1e6)
             nx, ny = _aa.sample_counts(
                 scale, lonlat[:, 1], factors, _aa.AUTO_TOLERANCE, _aa.AUTO_MAX
             )
-            shape = (r2 - r0, w_out)
-            valid = None if pb.valid is None else pb.valid.reshape(shape)
-            xyz = coords.xyz_from_cp1(pb.points).reshape(*shape, 3)
-            lat = lonlat[::w_out, 1]
-            if r2 == r1:  # last band: no row below; repeat the last one (no jumps there)
-                xyz = np.concatenate([xyz, xyz[-1:]])
-                scale = np.concatenate([scale, scale[-w_out:]])
-                valid = None if valid is None else np.concatenate([valid, valid[-1:]])
-                lat = np.concatenate([lat, lat[-1:]])
-            jump = _aa.jump_mask(xyz, scale.reshape(-1, w_out), lat, valid, rho_in, h_out).reshape(
-                -1
-            )
             m = r1 - r0
-            jump = jump[: m * w_out]
+            jump = _jumps(pb, scale, lonlat[::w_out, 1], r2 - r0, m, w_out, rho_in, h_out)
             nx, ny = nx[: m * w_out].copy(), ny[: m * w_out].copy()
             nx[jump] = np.maximum(nx[jump], _aa.JUMP_SAMPLES)
             ny[jump] = np.maximum(ny[jump], _aa.JUMP_SAMPLES)
         else:
             nx = ny = np.ones(len(px), np.int64)
         npx = (r1 - r0) * w_out
-        centre = (
-            pb.points[:npx],
-            None if pb.valid is None else pb.valid[:npx],
-            None if pb.sheet is None else pb.sheet[:npx],
-        )
-        counts = nx * ny
-        ends = np.cumsum(counts)
-        p = 0
-        while p < npx:
-            base = ends[p - 1] if p > 0 else 0
-            q = max(p + 1, int(np.searchsorted(ends, base + _SAMPLE_BATCH, side="right")))
-            part = tuple(None if a is None else a[p:q] for a in centre)
-            _sample_pixels(
-                images, inverse_map, px[p:q], nx[p:q], ny[p:q], part, (h_out, w_out),
-                flat, co, r0 * w_out + p, interp, bg, sampler, threads,
-            )  # fmt: skip
-            p = q
+        _sample_batches(
+            images, inverse_map, px[:npx], nx[:npx], ny[:npx], pb, (h_out, w_out), flat, co,
+            r0 * w_out, interp, bg, sampler, threads,
+        )  # fmt: skip
+
+
+def _sample_batches(
+    images: list[NDArray],
+    inverse_map: SphereMap,
+    px: NDArray[np.float64],
+    nx: NDArray[np.int64],
+    ny: NDArray[np.int64],
+    pb: Any,
+    out_shape: tuple[int, int],
+    flat: NDArray,
+    co: int,
+    p0: int,
+    interp: str,
+    bg: NDArray[np.float32],
+    sampler: str,
+    threads: int | None,
+    boxes: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+) -> None:
+    """:func:`_sample_pixels` for pixels ``p0, p0 + 1, ...`` (centres ``px``, pulled back
+    to ``pb``: its first ``len(px)`` points) in batches of about ``_SAMPLE_BATCH``
+    samples."""
+    npx = len(px)
+    centre = (
+        pb.points[:npx],
+        None if pb.valid is None else pb.valid[:npx],
+        None if pb.sheet is None else pb.sheet[:npx],
+    )
+    ends = np.cumsum(nx * ny)
+    p = 0
+    while p < npx:
+        base = ends[p - 1] if p > 0 else 0
+        q = max(p + 1, int(np.searchsorted(ends, base + _SAMPLE_BATCH, side="right")))
+        part = tuple(None if a is None else a[p:q] for a in centre)
+        _sample_pixels(
+            images, inverse_map, px[p:q], nx[p:q], ny[p:q], part, out_shape, flat, co, p0 + p,
+            interp, bg, sampler, threads, None if boxes is None else (boxes[0][p:q], boxes[1][p:q]),
+        )  # fmt: skip
+        p = q
+
+
+def _jumps(
+    pb: Any,
+    scale: NDArray[np.float64],
+    lat: NDArray[np.float64],
+    rows: int,
+    m: int,
+    w_out: int,
+    rho_in: float,
+    h_out: int,
+) -> NDArray[np.bool_]:
+    """:func:`~spherewarp.render.antialias.jump_mask` of the first ``m`` of ``rows``
+    pulled-back rows (one more than ``m`` but at the last band), flat."""
+    shape = (rows, w_out)
+    valid = None if pb.valid is None else pb.valid.reshape(shape)
+    xyz = coords.xyz_from_cp1(pb.points).reshape(*shape, 3)
+    if rows == m:  # last band: no row below; repeat the last one (no jumps there)
+        xyz = np.concatenate([xyz, xyz[-1:]])
+        scale = np.concatenate([scale, scale[-w_out:]])
+        valid = None if valid is None else np.concatenate([valid, valid[-1:]])
+        lat = np.concatenate([lat, lat[-1:]])
+    return _aa.jump_mask(xyz, scale.reshape(-1, w_out), lat, valid, rho_in, h_out).reshape(-1)[
+        : m * w_out
+    ]
+
+
+def _warp_area(
+    images: list[NDArray],
+    inverse_map: SphereMap,
+    out: NDArray,
+    bg: NDArray[np.float32],
+    sampler: str,
+    threads: int | None,
+) -> None:
+    """``antialias="area"`` on the NumPy side: any map, any number of sheets.
+
+    As the compiled renderer: each pixel is an area tap over its footprint
+    (:func:`~spherewarp.render.antialias.area_footprints`); a long footprint is
+    split into parts, each pulled back through the map and an area tap over its
+    share; pixels on a jump of the map get ``JUMP_SAMPLES`` plain taps a side.
+    """
+    h_in, w_in, _ = images[0].shape
+    h_out, w_out, co = out.shape
+    flat = out.reshape(-1)
+    rho_in = min(np.pi / h_in, 2 * np.pi / w_in)
+    band = max(1, (1 << 16) // w_out)
+    cols = np.arange(w_out, dtype=np.float64) + 0.5
+    js = _aa.JUMP_SAMPLES
+    for r0 in range(0, h_out, band):
+        r1 = min(h_out, r0 + band)
+        r2 = min(h_out, r1 + 1)  # the row below the band: neighbours, for jumps
+        m = r1 - r0
+        npx = m * w_out
+        rows = np.arange(r0, r2, dtype=np.float64) + 0.5
+        px = np.stack(np.broadcast_arrays(cols[None, :], rows[:, None]), -1).reshape(-1, 2)
+        lonlat = coords.lonlat_from_pixel(px, w_out, h_out)
+        zw = coords.cp1_from_lonlat(lonlat)
+        pb = inverse_map.pull(zw)
+        scale = np.nan_to_num(inverse_map.local_scale(zw), nan=1.0, posinf=1e6)
+        jump = _jumps(pb, scale, lonlat[::w_out, 1], r2 - r0, m, w_out, rho_in, h_out)
+        with np.errstate(invalid="ignore"):
+            uv = coords.pixel_from_lonlat(coords.lonlat_from_cp1(pb.points[:npx]), w_in, h_in)
+        valid = None if pb.valid is None else pb.valid[:npx]
+        J, nx, ny = _aa.area_footprints(
+            np.nan_to_num(uv[:, 0] - 0.5).reshape(m, w_out),
+            np.nan_to_num(uv[:, 1] - 0.5).reshape(m, w_out),
+            None if valid is None else valid.reshape(m, w_out),
+            lonlat[:npx:w_out, 1], (h_in, w_in), (h_out, w_out),
+        )  # fmt: skip
+        J = J.reshape(4, -1)
+        nx = nx.reshape(-1)
+        ny = ny.reshape(-1)
+        J[:, jump] = 0.0
+        nx[jump] = np.maximum(nx[jump], js)
+        ny[jump] = np.maximum(ny[jump], js)
+        # the box of each part (of the whole footprint where it is one part)
+        bx = np.hypot(J[0] / nx, J[1] / ny)
+        by = np.hypot(J[2] / nx, J[3] / ny)
+        _sample_batches(
+            images, inverse_map, px[:npx], nx, ny, pb, (h_out, w_out), flat, co, r0 * w_out,
+            "bilinear", bg, sampler, threads, (bx, by),
+        )  # fmt: skip
 
 
 def _sample_pixels(
@@ -423,8 +569,13 @@ def _sample_pixels(
     bg: NDArray[np.float32],
     sampler: str,
     threads: int | None,
+    boxes: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
 ) -> None:
-    """Average ``nx x ny`` samples in each pixel (centres already pulled back) into ``flat``."""
+    """Average ``nx x ny`` samples in each pixel (centres already pulled back) into ``flat``.
+
+    With ``boxes`` (the width and height of each pixel's samples, input pixels) the
+    samples are area taps (:func:`~spherewarp.render.sampling.sample_area`).
+    """
     h_out, w_out = out_shape
     image = images[0]
     c = image.shape[2]
@@ -461,8 +612,21 @@ def _sample_pixels(
             if pb.sheet is not None:
                 ss[where_sub] = pb.sheet
         points, valid, sheet = pts, vv, ss
+    if boxes is not None:
+        own = np.repeat(np.arange(len(counts)), counts)
+        boxes = (boxes[0][own], boxes[1][own])
     lonlat = coords.lonlat_from_cp1(points)
-    if sampler == "fast":
+    if boxes is not None and sampler == "fast" and (sheet is None or len(images) == 1):
+        from . import fast
+
+        h_in, w_in = image.shape[:2]
+        src = coords.pixel_from_lonlat(lonlat, w_in, h_in)
+        acc, cover = fast.area_samples(
+            image, src[:, 0] - 0.5, src[:, 1] - 0.5, boxes[0], boxes[1], valid, own, len(counts)
+        )
+        _finish(acc, cover, counts, image, bg, flat, co, p0)
+        return
+    if sampler == "fast" and boxes is None:
         from . import fast
 
         h_in, w_in = image.shape[:2]
@@ -473,19 +637,37 @@ def _sample_pixels(
         )  # fmt: skip
         return
     if sheet is None or len(images) == 1:
-        vals = _sample_one(image, lonlat, interp)
+        vals = _sample_one(image, lonlat, interp, boxes)
     else:
         vals = np.zeros((len(lonlat), c), np.float32)
         for k, im in enumerate(images):
             sel = sheet == k
             if np.any(sel):
-                vals[sel] = _sample_one(im, lonlat[sel], interp)
+                bs = None if boxes is None else (boxes[0][sel], boxes[1][sel])
+                vals[sel] = _sample_one(im, lonlat[sel], interp, bs)
     if valid is None:
         cover = counts.astype(np.float32)
     else:
         vals[~valid] = 0.0
         cover = np.add.reduceat(valid.astype(np.float32), start[:-1])
     acc = np.add.reduceat(vals, start[:-1], axis=0)
+    _finish(acc, cover, counts, image, bg, flat, co, p0)
+
+
+def _finish(
+    acc: NDArray[np.float32],
+    cover: NDArray[np.floating],
+    counts: NDArray[np.int64],
+    image: NDArray,
+    bg: NDArray[np.float32],
+    flat: NDArray,
+    co: int,
+    p0: int,
+) -> None:
+    """Pixels ``p0, p0 + 1, ...`` of ``flat``: the sums ``acc`` of ``cover`` samples out of
+    ``counts``, the rest background (and alpha the share covered, where ``co`` has it)."""
+    c = image.shape[2]
+    cover = np.asarray(cover, np.float32)
     inv = (np.float32(1.0) / counts.astype(np.float32))[:, None]
     res = (acc + (counts - cover)[:, None].astype(np.float32) * bg) * inv
     if co > c:
@@ -493,12 +675,19 @@ def _sample_pixels(
     if image.dtype.kind == "u":
         info = np.iinfo(image.dtype)
         np.clip(np.rint(res), info.min, info.max, out=res)
-    flat[p0 * co : (p0 + len(px)) * co] = res.reshape(-1)
+    flat[p0 * co : (p0 + len(counts)) * co] = res.reshape(-1)
 
 
-def _sample_one(image: NDArray, lonlat: NDArray[np.float64], interp: str) -> NDArray[np.float32]:
+def _sample_one(
+    image: NDArray,
+    lonlat: NDArray[np.float64],
+    interp: str,
+    boxes: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+) -> NDArray[np.float32]:
     h, w = image.shape[:2]
     px = coords.pixel_from_lonlat(lonlat, w, h)
+    if boxes is not None:
+        return sample_area(image, px[..., 0], px[..., 1], boxes[0], boxes[1])
     return sample(image, px[..., 0], px[..., 1], interp)
 
 
