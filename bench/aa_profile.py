@@ -11,10 +11,12 @@ wherever the map is smooth over a pixel.
 
     python bench/aa_profile.py            # about 2 minutes on 2 cores
 
-The table shows where ``auto`` loses: pixels with footprints between 1/4 and
-1 input pixel, where ``auto`` (like any renderer that only filters where the
-map shrinks) takes one bilinear tap and the reference averages the bilinear
-surface over the pixel; a rotation is all such pixels.
+The table shows where ``adaptive`` loses: pixels with footprints between 1/4
+and 1 input pixel, where ``adaptive`` (like any renderer that only filters
+where the map shrinks) takes one bilinear tap and the reference averages the
+bilinear surface over the pixel; a rotation is all such pixels. That is why
+``auto`` is ``area`` for a map that shrinks somewhere (and ``adaptive``, a
+bilinear tap a pixel, for a rotation).
 """
 
 from __future__ import annotations
@@ -78,7 +80,10 @@ def main() -> None:
         _, _, bx, by = footprint(m, w, h)
         fp = np.maximum(bx, by)
         outs, times = {}, {}
-        for label, aa in (("none", "none"), ("auto", "auto"), ("area", "area"), ("4x4", 4)):
+        for label, aa in (
+            ("none", "none"), ("auto", "auto"), ("adaptive", "adaptive"), ("area", "area"),
+            ("4x4", 4),
+        ):  # fmt: skip
             t0 = time.perf_counter()
             outs[label] = warp(img, m, antialias=aa)
             times[label] = time.perf_counter() - t0

@@ -231,7 +231,8 @@ def bench_rotation(width: int, threads_list: list[int], repeat: int, numpy_ref: 
     # zoom by 8 on the fly: anti-aliasing costs
     z = Mobius.zoom((0.0, 0.0), 8.0)
     for t in threads_list:
-        for label, aa in (("none", "none"), ("auto", "auto"), ("area", "area"), ("uniform 4x4", 4)):
+        for label, aa in (("none", "none"), ("auto", "auto"), ("adaptive", "adaptive"),
+                          ("area", "area"), ("uniform 4x4", 4)):  # fmt: skip
             row("zoom8", f"spherewarp zoom x8, antialias {label}", size, t, measure(
                 lambda aa=aa: warp(img, z.inverse(), antialias=aa, threads=t),
                 max(1, repeat // (4 if aa == 4 else 1)), memory=mem))  # fmt: skip
@@ -379,7 +380,8 @@ def bench_antialias(threads: int, ref_n: int) -> None:
         zw = coords.cp1_from_lonlat(coords.lonlat_from_pixel(px, w, h))
         shrink = np.nan_to_num(m.local_scale(zw), nan=1e6, posinf=1e6) > 1.0 + 1e-6
         res = {}
-        for label, aa in (("none", "none"), ("auto", "auto"), ("area", "area"), ("uniform 4x4", 4)):
+        for label, aa in (("none", "none"), ("auto", "auto"), ("adaptive", "adaptive"),
+                          ("area", "area"), ("uniform 4x4", 4)):  # fmt: skip
             tm = measure(lambda aa=aa: warp(img, m, antialias=aa, threads=threads), 3)
             out = warp(img, m, antialias=aa, threads=threads)
             res[label] = (psnr(out, ref), psnr(out, ref, shrink) if shrink.any() else None, tm)
@@ -533,13 +535,14 @@ def summary() -> list[str]:
                 lines.append(f"{size} t={t}: rotation AA area / none = {ar / n:.2f}")
             z = {
                 k: get("zoom8", f"spherewarp zoom x8, antialias {k}", size, t)
-                for k in ("none", "auto", "area", "uniform 4x4")
+                for k in ("none", "auto", "adaptive", "area", "uniform 4x4")
             }
             if all(z.values()):
                 lines.append(
                     f"{size} t={t}: zoom x8 auto / 4x4 = {z['auto'] / z['uniform 4x4']:.2f}, "
+                    f"adaptive / 4x4 = {z['adaptive'] / z['uniform 4x4']:.2f}, "
                     f"area / 4x4 = {z['area'] / z['uniform 4x4']:.2f}, "
-                    f"area / none = {z['area'] / z['none']:.2f}"
+                    f"auto / none = {z['auto'] / z['none']:.2f}"
                 )
     aa = [r for r in ROWS if r["group"] == "antialias"]
     for name in dict.fromkeys(r["case"].split(":")[0] for r in aa):
@@ -551,13 +554,14 @@ def summary() -> list[str]:
                 f"4x4 {u['psnr_db']:.2f} dB (target auto >= 4x4 - 0.5); "
                 f"time auto / 4x4 = {a['time_vs_uniform4']:.2f} (target <= 0.25)"
             )
-            if "area" in res:
-                ar = res["area"]
-                lines.append(
-                    f"AA {name}: area {ar['psnr_db']:.2f} dB (4x4 - 0.5 = "
-                    f"{u['psnr_db'] - 0.5:.2f}), time area / 4x4 = {ar['time_vs_uniform4']:.2f}, "
-                    f"area / none = {ar['time_vs_none']:.1f}"
-                )
+            for k in ("area", "adaptive"):
+                if k in res:
+                    ar = res[k]
+                    lines.append(
+                        f"AA {name}: {k} {ar['psnr_db']:.2f} dB (4x4 - 0.5 = "
+                        f"{u['psnr_db'] - 0.5:.2f}), time {k} / 4x4 = "
+                        f"{ar['time_vs_uniform4']:.2f}, {k} / none = {ar['time_vs_none']:.1f}"
+                    )
     for size in sorted({r["size"] for r in ROWS if r["group"] == "cli"}):
         s = get("cli", "spherewarp rotate", size, None)
         f = get("cli", "ffmpeg -vf v360", size, None)
