@@ -11,6 +11,11 @@ wherever the map is smooth over a pixel.
 
     python bench/aa_profile.py            # about 2 minutes on 2 cores
 
+Each case also profiles the cost of ``"area"`` with one thread: its base (every
+pixel one area tap) and its parts (footprints longer than 2 input pixels are
+split, each part pulled back through the map), with how many parts there are
+and where they come from: what bounds ``auto``'s time on the exp variant.
+
 The table shows where ``adaptive`` loses: pixels with footprints between 1/4
 and 1 input pixel, where ``adaptive`` (like any renderer that only filters
 where the map shrinks) takes one bilinear tap and the reference averages the
@@ -36,6 +41,7 @@ from bench.maps import droste_map, exp_map  # noqa: E402
 from bench.run import DETAIL, SAMPLE  # noqa: E402
 from spherewarp import coords, warp  # noqa: E402
 from spherewarp.maps import Mobius  # noqa: E402
+from spherewarp.render import antialias as _aa  # noqa: E402
 
 BINS = [0.0, 0.25, 0.5, 1.0, 2.0, 4.0, np.inf]
 
@@ -60,6 +66,51 @@ def footprint(m, w: int, h: int):
     j00, j10 = wrap(ux - u) / e, (vx - v) / e
     j01, j11 = wrap(uy - u) / e, (vy - v) / e
     return u, v, np.hypot(j00, j01), np.hypot(j10, j11)
+
+
+def _thread_ms(fn, repeat: int = 5) -> float:
+    """Least CPU time of ``repeat`` runs (after one warm-up), in ms: steadier than wall
+    time on a shared machine (run with threads=1)."""
+    fn()
+    best = np.inf
+    for _ in range(repeat):
+        t0 = time.thread_time()
+        fn()
+        best = min(best, time.thread_time() - t0)
+    return 1e3 * best
+
+
+def cost_profile(img: np.ndarray, m) -> dict:
+    """What ``antialias="area"`` spends its time on, with one thread: the base (every
+    pixel one area tap: the split into parts capped at 1) and the parts (the rest), with
+    how many parts there are and where their pixels' source points lie."""
+    h, w = img.shape[:2]
+    px = np.stack(np.broadcast_arrays(np.arange(w)[None, :] + 0.5, np.arange(h)[:, None] + 0.5), -1)
+    lonlat = coords.lonlat_from_pixel(px, w, h)
+    pb = m.pull(coords.cp1_from_lonlat(lonlat))
+    uv = coords.pixel_from_lonlat(coords.lonlat_from_cp1(pb.points), w, h) - 0.5
+    _, nx, ny = _aa.area_footprints(uv[..., 0], uv[..., 1], pb.valid, lonlat[:, 0, 1], (h, w),
+                                   (h, w))  # fmt: skip
+    parts = np.where(nx * ny > 1, nx * ny, 0)
+    polar = np.minimum(uv[..., 1] + 0.5, h - uv[..., 1] - 0.5) < 0.05 * h
+    capped = np.maximum(nx, ny) >= _aa.AUTO_MAX
+    t = {k: _thread_ms(lambda k=k: warp(img, m, antialias=k, threads=1)) for k in ("none", "area")}
+    t["4x4"] = _thread_ms(lambda: warp(img, m, antialias=4, threads=1), 3)
+    cap = _aa.AUTO_MAX
+    try:
+        _aa.AUTO_MAX = 1
+        t["base"] = _thread_ms(lambda: warp(img, m, antialias="area", threads=1))
+    finally:
+        _aa.AUTO_MAX = cap
+    n = int(parts.sum())
+    return {
+        "ms_1_thread": t,
+        "parts": n,
+        "parts_per_pixel": n / parts.size,
+        "parts_share_polar_5pct": float(parts[polar].sum() / max(n, 1)),
+        "parts_share_capped": float(parts[capped].sum() / max(n, 1)),
+        "ns_per_part": 1e6 * (t["area"] - t["base"]) / max(n, 1),
+    }
 
 
 def main() -> None:
@@ -104,7 +155,19 @@ def main() -> None:
                 f"   [{lo:4.2f}, {hi:4.2f})  {sel.mean():6.1%}   "
                 + " / ".join(f"{mse[k]:7.3f} ({share[k]:4.0%})" for k in err)
             )
-        report[name] = {"psnr_db": psnr, "seconds": times, "bins": rows}
+        cost = cost_profile(img, m)
+        t = cost["ms_1_thread"]
+        print(
+            f"   cost of area, 1 thread (CPU time): {t['area']:.1f} ms = base {t['base']:.1f} ms "
+            f"(one tap a pixel) + parts {t['area'] - t['base']:.1f} ms ({cost['parts'] / 1e6:.2f} M"
+            f" parts, {cost['parts_per_pixel']:.2f} a pixel, {cost['ns_per_part']:.0f} ns each; "
+            f"{cost['parts_share_polar_5pct']:.0%} from pixels whose source lies within 5% of "
+            f"the rows from a pole of the input, {cost['parts_share_capped']:.0%} from pixels "
+            f"split {_aa.AUTO_MAX} ways along an axis, the cap); none {t['none']:.1f} ms, "
+            f"4x4 {t['4x4']:.1f} ms: area / 4x4 = {t['area'] / t['4x4']:.2f}, "
+            f"base / 4x4 = {t['base'] / t['4x4']:.2f}"
+        )
+        report[name] = {"psnr_db": psnr, "seconds": times, "bins": rows, "area_cost": cost}
     out = HERE / "results" / f"aa-profile-{time.strftime('%Y%m%d-%H%M%S')}.json"
     out.parent.mkdir(exist_ok=True)
     out.write_text(json.dumps(report, indent=1))
