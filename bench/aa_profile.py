@@ -83,7 +83,9 @@ def _thread_ms(fn, repeat: int = 5) -> float:
 def cost_profile(img: np.ndarray, m) -> dict:
     """What ``antialias="area"`` spends its time on, with one thread: the base (every
     pixel one area tap: the split into parts capped at 1) and the parts (the rest), with
-    how many parts there are and where their pixels' source points lie."""
+    how many parts there are and where their pixels' source points lie. The cap is
+    lowered through ``antialias.AUTO_MAX``, which the compiled renderer reads at each
+    call (the maps here have compiled stages)."""
     h, w = img.shape[:2]
     px = np.stack(np.broadcast_arrays(np.arange(w)[None, :] + 0.5, np.arange(h)[:, None] + 0.5), -1)
     lonlat = coords.lonlat_from_pixel(px, w, h)

@@ -1215,7 +1215,8 @@ def area_batch(img, U, V, BX, BY, n, keep, own, acc, cover, WS, X0, Y0):
 
 
 @njit(**_V)
-def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BX, BY, S, E):
+def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BX, BY, S, E,
+                 T, G, aa_kx, aa_ky, jmin):  # fmt: skip
     """Footprints (``J``, boxes ``BX x BY``) and samples per pixel of
     ``antialias="area"``; returns the number of special pixels.
 
@@ -1237,6 +1238,14 @@ def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, 
     through the map and an area tap over its share of the footprint
     (:func:`_subsamples`): it is ``special``, as an undefined pixel is.
     ``S``: scratch, ``(3, >= n + 1)``.
+
+    Neighbour differences can miss a footprint that the magnification ``G / T``
+    says is large: where the map repeats itself at the pixel's scale (a Droste
+    map's fixed point, where neighbours land in the same place of other copies)
+    or where neighbours are half the input apart (tiny outputs). A pixel whose
+    footprint on the sphere is under half of what the magnification says (and
+    that is over 2 input pixels) is treated as on a jump: ``J`` cleared, plain
+    taps, as many as :func:`_counts` gives, at least ``jmin`` a side.
     """
     q = wo / (2.0 * ho * cl)
     half = 0.5 * wi
@@ -1294,6 +1303,18 @@ def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, 
         BY[k] = math.sqrt(dv * dv + j21 * j21)
         a = min(max(np.ceil(math.sqrt(du * du + dv * dv) * r2 - tol32), one), fcap)
         b = min(max(np.ceil(math.sqrt(j01 * j01 + j21 * j21) * r2 - tol32), one), fcap)
+        # the footprint's east step on the sphere against what the magnification says
+        t = T[k]
+        sc = f(min(G[k] / t, 1e9) if t > 0.0 else 1e9)
+        ex = sc * f(aa_kx * cl)
+        dus = du * cs
+        if ex > f(2.0) and f(4.0) * (dus * dus + dv * dv) < ex * ex:
+            J[0, k] = f(0.0)
+            J[1, k] = f(0.0)
+            J[2, k] = f(0.0)
+            J[3, k] = f(0.0)
+            a = min(max(np.ceil(ex - tol32), f(jmin)), fcap)
+            b = min(max(np.ceil(sc * f(aa_ky) - tol32), f(jmin)), fcap)
         nx[k] = np.int64(a)
         ny[k] = np.int64(b)
         sp = np.int64((valid[k] == 0) or (a * b > one))
@@ -1860,9 +1881,9 @@ def render_spec(
     the angular size of an input pixel) ``jmin x jmin`` samples at least. The
     rows are then pulled back one ahead, with one column more on either side.
     ``area`` (with ``do_aa``, ``uniform = 0``): every pixel is an area tap over
-    its footprint, supersampled where the footprint is over 2 input pixels
-    (:func:`_area_counts`; the taps: :func:`area_u8` in fixed point for uint8,
-    :func:`area_batch` otherwise).
+    its footprint, split into parts where an axis of the footprint is over about
+    1.5 input pixels (:func:`_area_counts`; the taps: :func:`area_u8` in fixed
+    point for uint8, :func:`area_batch` otherwise).
     """
     hi = img[5]
     wi, c, obytes, ntx, ntiles, big_w, shift, lom, spill = _layout(img, dst, ho, wo, th, tw)
@@ -1988,7 +2009,7 @@ def render_spec(
                 _edge_source(cl, sl, ecc, ecs, codes, params, mob1, kx, ky, EF, evalid)
                 nsp = _area_counts(
                     U, V, valid, w, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BXc, BYc, AS,
-                    EF[5:7],
+                    EF[5:7], T, G, aa_kx, aa_ky, jmin,
                 )  # fmt: skip
             elif do_aa:
                 nsp = _counts(T, G, valid, w, cl, aa_kx, aa_ky, tol, cap, uniform, nx, ny, special)

@@ -7,9 +7,10 @@
   the input's bilinear surface over the pixel's footprint, what a heavily
   supersampled render converges to. The footprint is the map's Jacobian in
   the input's chart (:func:`area_footprints`; the compiled renderer computes
-  the same); footprints up to 2 input pixels a side are one closed-form area
-  tap (4 x 4 taps of tent * box), longer ones are split along their axes and
-  each part pulled back through the map.
+  the same); footprints whose axes are up to about 1.5 input pixels
+  (:data:`AREA_SPLIT` with the tolerance) are one closed-form area tap (4 x 4
+  taps of tent * box), longer ones are split along their axes and each part
+  pulled back through the map.
 * ``"adaptive"`` for a map that shrinks nowhere (a rotation, an enlargement):
   there it is one bilinear tap a pixel, as sharp as the input allows and
   what the peers (ffmpeg's v360) do.
@@ -95,9 +96,8 @@ JUMP_SAMPLES = 4
 #: it into ``ceil(length / AREA_SPLIT - AUTO_TOLERANCE)`` parts (one area tap holds a box of
 #: up to 2 x 2 input pixels, and a turned part of ``sqrt 2`` fits in one)
 AREA_SPLIT = math.sqrt(2.0)
-#: what ``"area"`` renders as where the area filter is not compiled (maps without kernel
-#: stages, several input images, interpolations other than bilinear, cached maps): uniform
-#: supersampling, which the area filter approximates
+#: what ``"area"`` renders as with interpolations other than bilinear (the area filter
+#: averages the bilinear surface): uniform supersampling, which the area filter approximates
 AREA_FALLBACK = ("uniform", 4)
 
 
@@ -322,6 +322,7 @@ def area_footprints(
     out_shape: tuple[int, int],
     tol: float = AUTO_TOLERANCE,
     cap: int = AUTO_MAX,
+    scale: NDArray[np.floating] | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]]:
     """Footprints and parts per axis of ``antialias="area"`` for whole output rows.
 
@@ -337,6 +338,14 @@ def area_footprints(
     ``L`` (a column of ``J``) is long is split along it into
     ``ceil(L / AREA_SPLIT - tol)`` parts (at most ``cap``).
 
+    Neighbour differences can miss a footprint that the magnification says is
+    large: where the map repeats itself at the pixel's scale (a Droste map's
+    fixed point) or where neighbours are half the input apart (tiny outputs).
+    Given the magnification ``scale``, a pixel whose footprint on the sphere is
+    under half of what it says (and that is over 2 input pixels) is treated as
+    on a jump: a zero footprint (plain taps), as many parts as
+    :func:`sample_counts` gives and at least ``JUMP_SAMPLES`` a side.
+
     Parameters
     ----------
     u, v : ndarray, shape (rows, W)
@@ -347,6 +356,10 @@ def area_footprints(
     lat_out : ndarray, shape (rows,)
         Latitude of each row (radians).
     in_shape, out_shape : (height, width)
+    tol, cap : float, int
+        See above.
+    scale : ndarray, shape (rows, W), optional
+        The map's magnification at the pixel centres.
 
     Returns
     -------
@@ -394,4 +407,14 @@ def area_footprints(
     J[:, ~ok] = 0.0
     nx = np.clip(np.ceil(np.hypot(J[0], J[2]) / AREA_SPLIT - tol), 1, cap).astype(np.int64)
     ny = np.clip(np.ceil(np.hypot(J[1], J[3]) / AREA_SPLIT - tol), 1, cap).astype(np.int64)
+    if scale is not None:
+        kx, ky = footprint_factors(in_shape, out_shape)
+        s = np.minimum(np.asarray(scale, np.float64), 1e9)
+        ex = s * kx * np.cos(np.asarray(lat_out, np.float64))[:, None]
+        missed = ok & (ex > 2.0) & (4.0 * ((du * cs) ** 2 + dv**2) < ex * ex)
+        if np.any(missed):
+            J[:, missed] = 0.0
+            lo = min(JUMP_SAMPLES, cap)
+            nx[missed] = np.clip(np.ceil(ex[missed] - tol), lo, cap)
+            ny[missed] = np.clip(np.ceil(s[missed] * ky - tol), lo, cap)
     return J, nx, ny
