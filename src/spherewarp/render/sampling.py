@@ -48,6 +48,19 @@ def _flat_index(iy: NDArray[np.intp], ix: NDArray[np.intp], h: int, w: int) -> N
     return iy * w + ix
 
 
+def _tap_space(
+    image: NDArray, x: NDArray[np.floating], y: NDArray[np.floating]
+) -> tuple[int, int, int, NDArray, NDArray[np.float64], NDArray[np.float64]]:
+    """Check an image's shape; ``(h, w, c)``, its pixels as rows ``(h * w, c)``, and the
+    positions in tap space (pixel centres at integers)."""
+    if image.ndim != 3:
+        raise InvalidValueError(f"expected an image of shape (H, W, C), got {image.shape}")
+    h, w, c = image.shape
+    fx = np.asarray(x, dtype=np.float64) - 0.5
+    fy = np.asarray(y, dtype=np.float64) - 0.5
+    return h, w, c, image.reshape(h * w, c), fx, fy
+
+
 def _cubic_weights(t: NDArray[np.float32]) -> list[NDArray[np.float32]]:
     """Keys cubic convolution weights (a = -0.5, Catmull-Rom) for taps -1, 0, 1, 2."""
     a = np.float32(-0.5)
@@ -86,12 +99,7 @@ def sample(
     array([0. , 1.5], dtype=float32)
     """
     interp = check_interp(interp)
-    if image.ndim != 3:
-        raise InvalidValueError(f"expected an image of shape (H, W, C), got {image.shape}")
-    h, w, c = image.shape
-    flat = image.reshape(h * w, c)
-    fx = np.asarray(x, dtype=np.float64) - 0.5
-    fy = np.asarray(y, dtype=np.float64) - 0.5
+    h, w, c, flat, fx, fy = _tap_space(image, x, y)
     shape = fx.shape
     if interp == "nearest":
         ix = np.floor(fx + 0.5).astype(np.intp)
@@ -166,12 +174,7 @@ def sample_area(
     >>> float(sample_area(img, np.array([1.5]), np.array([0.5]), 1.0, 1e-3)[0, 0])
     6.0
     """
-    if image.ndim != 3:
-        raise InvalidValueError(f"expected an image of shape (H, W, C), got {image.shape}")
-    h, w, c = image.shape
-    flat = image.reshape(h * w, c)
-    fx = np.asarray(x, dtype=np.float64) - 0.5
-    fy = np.asarray(y, dtype=np.float64) - 0.5
+    h, w, c, flat, fx, fy = _tap_space(image, x, y)
     shape = fx.shape
     hx = 0.5 * np.clip(np.broadcast_to(np.asarray(bx, np.float64), shape), 1e-3, 2.0)
     hy = 0.5 * np.clip(np.broadcast_to(np.asarray(by, np.float64), shape), 1e-3, 2.0)

@@ -658,7 +658,7 @@ def _sample_pixels(
             cover += cv
         _finish(acc, cover, counts, image, bg, flat, co, p0)
         return
-    if sampler == "fast" and boxes is None:
+    if sampler == "fast":  # (area taps on this path returned above)
         from . import fast
 
         h_in, w_in = image.shape[:2]
