@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _cli import run
 
 import spherewarp.render
 from spherewarp.cli import main
@@ -23,7 +24,8 @@ from spherewarp.testpattern import make_test_pattern as make_pattern
 W, H = 128, 64
 
 
-def run(capsys: pytest.CaptureFixture[str], *args: object) -> tuple[int, str, str]:
+def run_in_process(capsys: pytest.CaptureFixture[str], *args: object) -> tuple[int, str, str]:
+    """Run the CLI inside this process (for the tests that patch it to fail)."""
     try:
         main([str(a) for a in args])
         code = 0
@@ -48,10 +50,11 @@ def fails(
     *args: object,
     code: int = 2,
     needles: tuple[str, ...] = (),
+    in_process: bool = False,
 ) -> str:
-    """Run a command that must fail cleanly; return its error line."""
+    """Run a command that must fail cleanly (in a fresh process); return its error line."""
     before = {p.name: digest(p) for p in workdir.iterdir() if p.is_file()}
-    status, out, err = run(capsys, *args)
+    status, out, err = (run_in_process if in_process else run)(capsys, *args)
     assert status == code, (status, out, err)
     assert err.count("\n") == 1 and err.endswith("\n"), err
     assert err.startswith("spherewarp: "), err
@@ -315,7 +318,9 @@ def test_interrupted_render_leaves_nothing(capsys, workdir, good_png, monkeypatc
         raise KeyboardInterrupt
 
     monkeypatch.setattr(spherewarp.render, "warp", interrupted)
-    err = fails(capsys, workdir, "rotate", good_png, "--yaw", 10, "-o", "out.png", code=130)
+    err = fails(
+        capsys, workdir, "rotate", good_png, "--yaw", 10, "-o", "out.png", code=130, in_process=True
+    )
     assert "interrupted" in err
 
 
@@ -328,7 +333,11 @@ def test_interrupted_write_leaves_no_temp_file(capsys, workdir, good_png, monkey
 
     monkeypatch.setattr(images, "_fsync", interrupted)
     err = fails(
-        capsys, workdir, "zoom", good_png, "--at", "0,0", "--factor", 2, "-o", "o.png", code=130
+        capsys,
+        workdir,
+        *("zoom", good_png, "--at", "0,0", "--factor", 2, "-o", "o.png"),
+        code=130,
+        in_process=True,
     )
     assert "interrupted" in err
     assert sorted(p.name for p in workdir.iterdir()) == ["in.png"]

@@ -330,7 +330,7 @@ def splitscreen(
     differ in size (resampled to the largest) and channels. With --cover exp,
     --supersample defaults to 3.
     """
-    from .. import splitscreen as ss
+    import spherewarp.splitscreen as ss
     from ._common import load_input, output_path, save_output
 
     cover = cover.lower()
