@@ -331,6 +331,7 @@ def splitscreen(
     --supersample defaults to 3.
     """
     import spherewarp.splitscreen as ss
+
     from ._common import load_input, output_path, save_output
 
     cover = cover.lower()
