@@ -56,9 +56,11 @@ def test_detector_finds_a_ring_and_passes_a_clean_lamp():
     assert repair.count_spots(repair.ring_spots(ringed)) == 2
 
 
-def test_detector_sees_the_original_rings():
+def test_detectors_see_the_original_rings():
     original = _rgb(_original("interior.png"))
     assert repair.count_spots(repair.ring_spots(original)) >= 20
+    hdr = np.clip(read_image(_original("interior.exr")).pixels, 0.0, None)
+    assert repair.lamp_dips(hdr).sum() >= 100
 
 
 @pytest.mark.parametrize("name", SAMPLES)
@@ -72,6 +74,7 @@ def test_bundled_exr_is_clean_and_makes_the_png():
     hdr = read_image(DATA / "interior.exr").pixels
     assert (hdr.shape, hdr.dtype) == ((512, 1024, 3), np.float32)
     assert np.isfinite(hdr).all() and hdr.min() >= 0.0 and hdr.max() > 1000.0
+    assert not repair.lamp_dips(hdr).any()
     np.testing.assert_array_equal(repair.tone_map(hdr), _rgb(DATA / "interior.png"))
 
 
@@ -82,7 +85,8 @@ def test_repair_changes_only_pixels_near_the_lamps(name):
     changed = (before != after).any(axis=-1)
     assert 0 < changed.mean() < 0.001
     clipped = before.max(axis=-1) >= repair.CLIPPED
-    near = repair._neighbours(clipped, repair.REACH + 1).any(axis=0)
+    reach = max(repair.REACH, repair.LAMP_REACH) + 1
+    near = repair._neighbours(clipped, reach).any(axis=0)
     assert not (changed & ~near).any()
 
 

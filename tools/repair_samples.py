@@ -15,9 +15,10 @@ This script, run from the repository root::
 
 1. reads the original ``NAME.exr`` files from ``--src``;
 2. clamps every channel to ``>= 0`` (NaN/inf are refused: the originals have none);
-3. finds the ring pixels with :func:`ring_spots` on the tone-mapped image and
-   replaces each by the per-channel linear mean of its 8 neighbours that are not
-   ring pixels, peeling the marked set from its edge inwards (so a ring inside a
+3. finds the ring pixels with :func:`ring_spots` on the tone-mapped image, and
+   the fainter undershoot beside the lamps with :func:`lamp_dips`, and replaces
+   each by the per-channel linear mean of its 8 neighbours that are not marked,
+   peeling the marked set from its edge inwards (so a ring inside a
    lamp takes the lamp's blown-out value), rounded to half float (the precision
    of the originals); this is repeated until the detector finds nothing;
 4. writes ``NAME.png`` (and ``NAME.exr`` where one is bundled) into ``--dest``.
@@ -27,7 +28,7 @@ This script, run from the repository root::
    written lossless (PIZ, half float: every original value is exactly a half, and
    DWAB would bring the negatives back), keeping the original header attributes.
 
-It prints the ring pixels/spots and the negative values before and after.
+It prints the ring pixels/spots, lamp dips and negative values before and after.
 """
 
 from __future__ import annotations
@@ -54,6 +55,11 @@ DARK = 30  # a channel at most this (linear <= ~0.007): clamped by the undershoo
 BRIGHT = 100  # median of the 8 neighbours' mean at least this: a bright neighbourhood
 CLIPPED = 250  # a pixel with a channel at least this is blown out (linear >= ~22)
 REACH = 4  # ... and one lies within this many pixels (Chebyshev)
+#: lamp dips, found on the linear EXR: pixels within LAMP_REACH of a lamp (a linear value
+#: >= LAMP) whose darkest channel is at most DIP times the median of their neighbours'
+LAMP = 100.0
+LAMP_REACH = 8
+DIP = 0.7
 
 
 def tone_map(linear: np.ndarray) -> np.ndarray:
@@ -97,6 +103,23 @@ def ring_spots(rgb8: np.ndarray) -> np.ndarray:
     return dark & bright & near_clipped
 
 
+def lamp_dips(linear: np.ndarray) -> np.ndarray:
+    """Boolean ``(H, W)`` mask of the fainter ringing beside the lamps of a linear panorama.
+
+    The undershoot that did not reach black: a channel that dips below ``DIP`` times
+    the median of its neighbours (on the tone-mapped values) in a bright neighbourhood
+    within ``LAMP_REACH`` pixels of a lamp (linear ``>= LAMP``; the sunlit wall of
+    ``courtyard``, at most ~55, is no lamp). Only the linear image tells a lamp from
+    a merely clipped pixel, so this one needs the EXR.
+    """
+    rgb8 = tone_map(linear).astype(np.int16)
+    darkest = rgb8.min(axis=-1).astype(np.float64)
+    dip = darkest <= DIP * np.median(_neighbours(darkest), axis=0)
+    bright = np.median(_neighbours(rgb8.mean(axis=-1)), axis=0) >= BRIGHT
+    near_lamp = _neighbours(linear.max(axis=-1) >= LAMP, LAMP_REACH).any(axis=0)
+    return dip & bright & near_lamp
+
+
 def count_spots(mask: np.ndarray) -> int:
     """Number of 8-connected groups in ``mask``."""
     return int(ndimage.label(mask, structure=np.ones((3, 3)))[1])
@@ -120,12 +143,12 @@ def fill(linear: np.ndarray, mask: np.ndarray) -> np.ndarray:
 
 
 def repair(linear: np.ndarray, rounds: int = 10) -> np.ndarray:
-    """Clamp negatives to 0, then fill the ring spots until the detector finds none."""
+    """Clamp negatives to 0, then fill ring spots and lamp dips until none is left."""
     if not np.isfinite(linear).all():
         raise ValueError("the EXR has NaN or infinite values")
     out = np.clip(linear, 0.0, None)
     for _ in range(rounds):
-        mask = ring_spots(tone_map(out))
+        mask = ring_spots(tone_map(out)) | lamp_dips(out)
         if not mask.any():
             break
         # rounded to half floats, the precision of every original value
@@ -185,10 +208,12 @@ def main(argv: list[str] | None = None) -> int:
         fixed = repair(linear)
         png = tone_map(fixed)
         before, after = ring_spots(shipped), ring_spots(png)
+        dips = lamp_dips(np.clip(linear, 0.0, None)).sum(), lamp_dips(fixed).sum()
         changed = (png != shipped).any(axis=-1)
         print(
             f"{name}: ring pixels {before.sum()} in {count_spots(before)} spots -> "
-            f"{after.sum()} in {count_spots(after)}; EXR values < 0: {(linear < 0).sum()} -> "
+            f"{after.sum()} in {count_spots(after)}; lamp dips {dips[0]} -> {dips[1]}; "
+            f"EXR values < 0: {(linear < 0).sum()} -> "
             f"{(fixed < 0).sum()}; PNG pixels changed: {changed.sum()} "
             f"({changed.mean():.3%})"
         )
