@@ -42,8 +42,14 @@ _LAZY = {
     "fit_rational": "rational",
 }
 
-#: every module that registers map kinds (read by map_from_dict for unknown kinds)
-MAP_MODULES = ("mobius", "branched", "droste", "elliptic", "expression", "rational")
+#: every module that registers map kinds, by full name (map_from_dict imports them all when
+#: it meets a kind it does not know yet, so that JSON reads back in a fresh interpreter);
+#: SheetedCover lives in spherewarp.splitscreen
+MAP_MODULES = (
+    *(f"{__name__}.{m}" for m in ("mobius", "branched", "droste", "elliptic")),
+    *(f"{__name__}.{m}" for m in ("expression", "rational")),
+    "spherewarp.splitscreen",
+)
 
 __all__ = [
     "Composite",
