@@ -46,8 +46,12 @@ _LAZY = {
 #: it meets a kind it does not know yet, so that JSON reads back in a fresh interpreter);
 #: SheetedCover lives in spherewarp.splitscreen
 MAP_MODULES = (
-    *(f"{__name__}.{m}" for m in ("mobius", "branched", "droste", "elliptic")),
-    *(f"{__name__}.{m}" for m in ("expression", "rational")),
+    "spherewarp.maps.mobius",
+    "spherewarp.maps.branched",
+    "spherewarp.maps.droste",
+    "spherewarp.maps.elliptic",
+    "spherewarp.maps.expression",
+    "spherewarp.maps.rational",
     "spherewarp.splitscreen",
 )
 
