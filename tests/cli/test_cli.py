@@ -413,6 +413,9 @@ def test_demo_command(capsys, workdir):
     files = sorted(Path("d").glob("*.png"))
     assert len(files) >= 7
     assert out.count("wrote ") == len(files)
+    # a second run replaces the demo's own files
+    ok(capsys, "demo", "d", "--size", "128x64", "--supersample", "1")
+    files[0].write_bytes(b"not the demo's any more")
     code, _, err = run(capsys, "demo", "d", "--size", "128x64")
     assert code == 2 and "--overwrite" in err and err.count("\n") == 1
     ok(capsys, "demo", "d", "--size", "128x64", "--supersample", "1", "--overwrite")
