@@ -171,9 +171,9 @@ def warp(
         ``"area"``: every pixel is the average of the bilinear image over its
         footprint (4 x 4 taps of tent * box in closed form; a footprint with
         an axis over about 1.5 input pixels is split along its axes and each
-        part pulled back): what heavy supersampling gives, in about 1/6 of
+        part pulled back): what heavy supersampling gives, in 1/6 to 1/4 of
         the time of uniform 4 x 4 and 3-5 times that of ``"none"`` on zooms
-        and Droste maps (up to 1.3 times 4 x 4 where the map sends many
+        and Droste maps (up to 1.6 times 4 x 4 where the map sends many
         pixels next to the input's poles, as the exp variant does).
         ``"adaptive"``: supersample only where an output pixel covers more
         than about one input pixel, as many samples as its footprint needs (up
