@@ -233,3 +233,18 @@ def test_python_block_runs_as_written(index, tmp_path, shell_env):
     )
     assert done.returncode == 0, done.stderr
     assert "Traceback" not in done.stderr, done.stderr
+
+
+def test_area_cost_agrees_with_the_help():
+    """The README and ``--antialias``'s help give area's cost against 4x4 in the same words."""
+    from spherewarp.cli.mobius_cmds import rotate
+
+    (option,) = [p for p in rotate.params if "--antialias" in p.opts]
+    cost = re.search(r"1/\d+(?: to 1/\d+)?", option.help)
+    assert cost, option.help
+    area = [
+        line
+        for line in README.read_text(encoding="utf-8").split("\n- ")
+        if "`--antialias area`" in line
+    ]
+    assert area and cost.group(0) in area[0], (cost.group(0), area)
