@@ -116,9 +116,8 @@ def _wrapper(bin_dir: Path) -> None:
     """Write ``bin_dir/spherewarp``: the real command line, --size appended where it applies."""
     full = os.environ.get("SPHEREWARP_README_FULL_SIZE") == "1"
     sized = [] if full else _sized_commands()
-    script = textwrap.dedent(
+    code = textwrap.dedent(
         f"""\
-        #!{sys.executable}
         # test_readme.py: spherewarp at reduced size (see the test's docstring)
         import os, sys
         args = sys.argv[1:]
@@ -127,8 +126,11 @@ def _wrapper(bin_dir: Path) -> None:
         os.execv(sys.executable, [sys.executable, "-m", "spherewarp", *args])
         """
     )
+    (bin_dir / "spherewarp.py").write_text(code, encoding="utf-8")
+    # a sh script, so that no long or odd interpreter path goes in a #! line
+    launcher = f'#!/bin/sh\nexec {shlex.quote(sys.executable)} "$0.py" "$@"\n'
     path = bin_dir / "spherewarp"
-    path.write_text(script, encoding="utf-8")
+    path.write_text(launcher, encoding="utf-8")
     path.chmod(0o755)
 
 
@@ -147,13 +149,9 @@ def shell_env(tmp_path: Path) -> dict[str, str]:
     return env
 
 
-def _run_bash(lines: list[str], cwd: Path, env: dict[str, str]) -> None:
-    """Run ``lines`` in order in one bash; fail naming the line that failed."""
-    script = ["set -e"]
-    for k, line in enumerate(lines):
-        script += [line, f"echo '@@readme-line-done {k}' >&2"]
-    done = subprocess.run(
-        ["bash", "-c", "\n".join(script)],
+def _run(argv: list[str], cwd: Path, env: dict[str, str]) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        argv,
         cwd=cwd,
         env=env,
         capture_output=True,
@@ -161,6 +159,14 @@ def _run_bash(lines: list[str], cwd: Path, env: dict[str, str]) -> None:
         timeout=TIMEOUT,
         stdin=subprocess.DEVNULL,
     )
+
+
+def _run_bash(lines: list[str], cwd: Path, env: dict[str, str]) -> None:
+    """Run ``lines`` in order in one bash; fail naming the line that failed."""
+    script = ["set -e"]
+    for k, line in enumerate(lines):
+        script += [line, f"echo '@@readme-line-done {k}' >&2"]
+    done = _run(["bash", "-c", "\n".join(script)], cwd, env)
     finished = [int(m) for m in re.findall(r"^@@readme-line-done (\d+)$", done.stderr, re.M)]
     stderr = re.sub(r"^@@readme-line-done \d+\n", "", done.stderr, flags=re.M)
     if done.returncode != 0:
@@ -222,15 +228,7 @@ def test_sh_block_runs_as_written(index, tmp_path, shell_env):
 @pytest.mark.parametrize("index", range(len(readme_blocks("python"))))
 def test_python_block_runs_as_written(index, tmp_path, shell_env):
     block = readme_blocks("python")[index]
-    done = subprocess.run(
-        [sys.executable, "-c", block],
-        cwd=tmp_path,
-        env=shell_env,
-        capture_output=True,
-        text=True,
-        timeout=TIMEOUT,
-        stdin=subprocess.DEVNULL,
-    )
+    done = _run([sys.executable, "-c", block], tmp_path, shell_env)
     assert done.returncode == 0, done.stderr
     assert "Traceback" not in done.stderr, done.stderr
 
