@@ -15,6 +15,10 @@ changed there is tested without touching this file:
 - ``python`` blocks: each runs as a script in a fresh ``python``, in a temporary
   directory.
 
+Blocks fenced with another language (``text``, ``console``, none) are not run:
+use one of those for output, file trees or commands that need what a fresh
+clone lacks.
+
 Reduced size: so that the test takes seconds, not minutes, ``spherewarp`` on
 ``PATH`` is a small wrapper that runs the real command line (``python -m
 spherewarp``) with ``--size 256x128`` appended, for the commands that have a

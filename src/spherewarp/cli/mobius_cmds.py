@@ -272,7 +272,7 @@ def zoom(
                 f"expected a pixel inside the {w}x{h} input (0..{w}, 0..{h}), got {x:g},{y:g}",
                 param_hint="'--at-pixel'",
             )
-        lon, lat = np.degrees(coords.lonlat_from_pixel(np.array([x, y]), w, h))
+        lon, lat = coords.lonlat_deg_from_pixel(np.array([x, y]), w, h)
         at = (float(lon), float(lat))
     forward = Mobius.zoom(at, factor)
     pose_moves = Mobius.identity()
