@@ -58,3 +58,9 @@ def test_pose_dropped_with_a_note_when_it_no_longer_holds(posed, args):
     assert got == (None, None, None)
     assert err.startswith("note:") and "pose" in err and err.count("\n") == 1
     assert read_image("out.png").gpano.projection_type == "equirectangular"
+
+
+def test_info_shows_the_pose(posed):
+    code, out, err = run(None, "info", "tilted.png")
+    assert code == 0, err
+    assert "pose heading 100°, pitch 3°, roll -2°" in out

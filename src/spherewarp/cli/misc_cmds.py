@@ -142,6 +142,9 @@ def image_info(path: Path, max_pixels: int | None = None) -> dict[str, Any]:
             "cropped_size": [g.cropped_width, g.cropped_height],
             "cropped_left_top": [g.cropped_left, g.cropped_top],
             "cropped": bool(g.is_cropped),
+            "pose_degrees": None
+            if not g.has_pose
+            else {"heading": g.pose_heading, "pitch": g.pose_pitch, "roll": g.pose_roll},
         }
     return {
         "path": str(path),
@@ -206,6 +209,9 @@ def _format_info(info: dict[str, Any]) -> str:
         left, top = g["cropped_left_top"]
         gp = f"{g['projection']}, full {fw}x{fh}"
         gp += f", cropped {cw}x{ch} at {left},{top}" if g["cropped"] else " (not cropped)"
+        pose = g.get("pose_degrees")
+        if pose:
+            gp += ", pose " + ", ".join(f"{k} {v:g}°" for k, v in pose.items() if v is not None)
     icc = info["icc_profile"]
     icc_s = "none" if icc is None else f"{icc['bytes']} bytes"
     if icc and icc["description"]:
