@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from spherewarp import coords
-from spherewarp.demo import DEMO_EFFECTS, PICTURE, DemoEffect, run_demo, sample_path
+from spherewarp.demo import DEMO_EFFECTS, MANIFEST, PICTURE, DemoEffect, run_demo, sample_path
 from spherewarp.errors import InvalidValueError, OutputExistsError
 from spherewarp.io import GPano, read_image
 
@@ -40,11 +40,12 @@ def test_demo_writes_every_effect(demo_dir):
     assert [p.name for p in paths] == [
         f"{k:02d}-{e.name}.png" for k, e in enumerate(DEMO_EFFECTS, start=1)
     ]
-    assert sorted(folder.iterdir()) == sorted(paths)
-    for p in paths:
+    assert sorted(folder.iterdir()) == sorted([*paths, folder / MANIFEST])
+    for p, effect in zip(paths, DEMO_EFFECTS, strict=True):
         img = read_image(p)
         assert img.pixels.shape == (SIZE[1], SIZE[0], 3) and img.pixels.dtype == np.uint8
-        assert img.gpano == GPano.full_sphere(*SIZE)
+        # panoramas carry GPano; the Peirce/torus panel is no panorama and carries none
+        assert img.gpano == (GPano.full_sphere(*SIZE) if effect.equirectangular else None)
         assert img.pixels.std() > 5  # not blank
     assert len(lines) == len(paths) + 1
     assert all(str(p) in line for p, line in zip(paths, lines, strict=False))
@@ -69,6 +70,24 @@ def test_refuses_to_clobber_and_writes_nothing(tmp_path):
     assert sorted(folder.iterdir()) == [third] and third.read_bytes() == b"keep me"
     run_demo(folder, size=SIZE, supersample=1, overwrite=True, echo=None)
     assert read_image(third).pixels.shape == (SIZE[1], SIZE[0], 3)
+
+
+def test_runs_again_over_its_own_files_only(tmp_path):
+    """A second run replaces what the first wrote, and no file it did not write."""
+    folder = tmp_path / "d"
+    effects = DEMO_EFFECTS[:3]
+    first = run_demo(folder, size=SIZE, supersample=1, effects=effects, echo=None)
+    mine = folder / "notes.txt"
+    mine.write_text("mine")
+    again = run_demo(folder, size=(32, 16), supersample=1, effects=effects, echo=None)
+    assert again == first and read_image(again[0]).pixels.shape == (16, 32, 3)
+    assert mine.read_text() == "mine"
+    # a demo file the user changed (or made) is theirs: refused, and nothing is written
+    first[1].write_bytes(b"edited")
+    with pytest.raises(OutputExistsError, match="overwrite"):
+        run_demo(folder, size=SIZE, supersample=1, effects=effects, echo=None)
+    assert first[1].read_bytes() == b"edited"
+    assert read_image(first[0]).pixels.shape == (16, 32, 3)
 
 
 def test_custom_effects_and_default_size(tmp_path):

@@ -14,6 +14,11 @@ plane               ``(...)`` complex             point ``z/w`` of the Riemann s
                                                   with ``inf`` for the point at infinity
 ==================  ===========================  ===================================
 
+Units: every ``lonlat`` array here is in **radians**, as NumPy's trigonometry
+takes them. The rest of the API (maps, the command line) speaks degrees; the
+``_deg`` functions (:func:`lonlat_deg_from_cp1`, :func:`cp1_from_lonlat_deg`,
+:func:`lonlat_deg_from_pixel`, :func:`pixel_from_lonlat_deg`) convert in degrees.
+
 Convention: pixel ``(x, y)`` has its origin at the top-left corner of the
 image and pixel centres at half-integers; ``lon = 2*pi*x/W - pi`` and
 ``lat = pi/2 - pi*y/H``, so the image centre is longitude 0 (the front),
@@ -62,6 +67,10 @@ __all__ = [
     "antipode_cp1",
     "cp1_from_lonlat",
     "lonlat_from_cp1",
+    "lonlat_deg_from_cp1",
+    "cp1_from_lonlat_deg",
+    "lonlat_deg_from_pixel",
+    "pixel_from_lonlat_deg",
     "parse_lonlat",
 ]
 
@@ -308,6 +317,7 @@ def lonlat_from_cp1(zw: ArrayLike) -> FloatArray:
     """Longitude and latitude (radians) of homogeneous pairs.
 
     The pairs need not be normalised; at the poles the longitude is arbitrary.
+    :func:`lonlat_deg_from_cp1` gives degrees, the unit of the rest of the API.
 
     Examples
     --------
@@ -320,6 +330,55 @@ def lonlat_from_cp1(zw: ArrayLike) -> FloatArray:
     colat = 2.0 * np.arctan2(np.abs(a), np.abs(b))
     lon = np.angle(-a * np.conj(b))
     return np.stack([lon, 0.5 * np.pi - colat], axis=-1)
+
+
+def lonlat_deg_from_cp1(zw: ArrayLike) -> FloatArray:
+    """Longitude and latitude in **degrees** of homogeneous pairs.
+
+    :func:`lonlat_from_cp1` in the units of the rest of the API (maps and the
+    command line take points as ``(lon, lat)`` in degrees).
+
+    Examples
+    --------
+    >>> from spherewarp.maps import Mobius
+    >>> m = Mobius.zoom((-163, 5), 3.0)
+    >>> lonlat_deg_from_cp1(m.pull_cp1(cp1_from_lonlat_deg([-163.0, 5.0]))).round(9)
+    array([-163.,    5.])
+    """
+    return np.degrees(lonlat_from_cp1(zw))
+
+
+def cp1_from_lonlat_deg(lonlat_deg: ArrayLike) -> ComplexArray:
+    """Unit-norm homogeneous pairs of longitude and latitude in **degrees**.
+
+    Examples
+    --------
+    >>> cp1_from_lonlat_deg([0.0, 90.0]).round(12)     # the zenith is 0 in the default chart
+    array([-0.+0.j,  1.+0.j])
+    """
+    return cp1_from_lonlat(np.radians(np.asarray(lonlat_deg, dtype=np.float64)))
+
+
+def lonlat_deg_from_pixel(pixel: ArrayLike, width: int, height: int) -> FloatArray:
+    """Longitude and latitude in **degrees** of equirectangular pixel coordinates.
+
+    Examples
+    --------
+    >>> lonlat_deg_from_pixel([512.0, 256.0], 1024, 512)
+    array([0., 0.])
+    """
+    return np.degrees(lonlat_from_pixel(pixel, width, height))
+
+
+def pixel_from_lonlat_deg(lonlat_deg: ArrayLike, width: int, height: int) -> FloatArray:
+    """Equirectangular pixel coordinates of longitude and latitude in **degrees**.
+
+    Examples
+    --------
+    >>> pixel_from_lonlat_deg([90.0, 45.0], 1024, 512)
+    array([768., 128.])
+    """
+    return pixel_from_lonlat(np.radians(np.asarray(lonlat_deg, dtype=np.float64)), width, height)
 
 
 def antipode_cp1(zw: ArrayLike) -> ComplexArray:

@@ -6,6 +6,12 @@ effects are plain data, a name, a description and a function of
 :class:`DemoInputs` returning an image, so later effects are added with
 ``DEMO_EFFECTS.append(DemoEffect(...))``.
 
+Running the demo again replaces the files it wrote before: it records them,
+with a digest of their contents, in ``DIR/.spherewarp-demo.json``
+(:data:`MANIFEST`). Any other file in ``DIR`` is left alone; one that has a
+demo file's name but that the demo did not write (or that was changed since)
+is an error unless ``overwrite`` (``--overwrite``) is given.
+
 The sample is ``interior.png`` (a hotel room, CC0, see ``data/LICENSE.md``);
 the framed picture on its wall is at :data:`PICTURE`.
 
@@ -20,6 +26,9 @@ Examples
 
 from __future__ import annotations
 
+import hashlib
+import json
+import os
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -38,9 +47,13 @@ __all__ = [
     "PICTURE",
     "DemoEffect",
     "DemoInputs",
+    "MANIFEST",
     "run_demo",
     "sample_path",
 ]
+
+#: file in the demo's folder listing what it wrote (name -> sha256 of the contents)
+MANIFEST = ".spherewarp-demo.json"
 
 #: LON,LAT (degrees) of the framed picture on the wall of the sample ``interior.png``.
 PICTURE: tuple[float, float] = (-163.0, 5.0)
@@ -111,11 +124,15 @@ class DemoEffect:
         One line for the listing.
     render : callable
         ``render(inputs: DemoInputs) -> ndarray`` of shape ``inputs.output_shape``.
+    equirectangular : bool
+        Whether the image is a 360° equirectangular panorama (it then carries
+        GPano metadata); False for a flat picture such as a Peirce square.
     """
 
     name: str
     description: str
     render: Callable[[DemoInputs], NDArray]
+    equirectangular: bool = True
 
 
 def _facing_picture() -> Mobius:
@@ -206,6 +223,7 @@ DEMO_EFFECTS: list[DemoEffect] = [
         "peirce-torus",
         "peirce (the whole sphere in a square) beside torus (the square torus cell: two copies)",
         lambda d: _peirce_and_torus(d),
+        equirectangular=False,
     ),
 ]
 
@@ -267,8 +285,11 @@ def run_demo(
     directory : str or Path
         Created if missing (with its parents).
     overwrite : bool
-        Replace existing files; otherwise an existing file is an error, raised
-        before anything is written.
+        Replace any existing file with a demo file's name. Without it the
+        files that an earlier run wrote (listed in :data:`MANIFEST`, contents
+        unchanged) are replaced and any other existing file of those names is
+        an error, raised before anything is written. Other files in
+        ``directory`` are never touched.
     size : (width, height), optional
         Output size; default the sample's (1024x512).
     supersample : int
@@ -286,7 +307,8 @@ def run_demo(
     Raises
     ------
     OutputExistsError
-        If a file exists and ``overwrite`` is false (nothing is written).
+        If a file with a demo file's name exists that the demo did not write,
+        and ``overwrite`` is false (nothing is written).
     """
     from .io import read_image, write_image
     from .testpattern import make_test_pattern
@@ -297,13 +319,14 @@ def run_demo(
     if out_dir.exists() and not out_dir.is_dir():
         raise InvalidValueError(f"'{out_dir}' exists and is not a directory")
     targets = [out_dir / f"{k:02d}-{e.name}.png" for k, e in enumerate(effects, start=1)]
+    manifest = _read_manifest(out_dir)
     if not overwrite:
-        existing = [p for p in targets if p.exists()]
+        existing = [p for p in targets if p.exists() and not _is_ours(p, manifest)]
         if existing:
             more = f" (and {len(existing) - 1} more)" if len(existing) > 1 else ""
             raise OutputExistsError(
-                f"'{existing[0]}' exists{more}; pass --overwrite (overwrite=True) to replace "
-                "the demo's files, or choose another directory"
+                f"'{existing[0]}' exists{more} and is not a file the demo wrote; pass "
+                "--overwrite (overwrite=True) to replace it, or choose another directory"
             )
 
     src = read_image(sample_path())
@@ -325,15 +348,47 @@ def run_demo(
             pixels,
             icc_profile=src.icc_profile,
             exif=src.exif,
-            gpano=True,
-            overwrite=overwrite,
+            gpano=effect.equirectangular,
+            overwrite=True,  # checked above: absent, ours, or overwrite
         )
+        manifest[target.name] = _digest(target)
+        _write_manifest(out_dir, manifest)
         written.append(target)
         if echo is not None:
             echo(f"wrote {target}  ({effect.description})")
     if echo is not None:
         echo(
             f"{len(written)} images in {out_dir}/ in {time.perf_counter() - start:.1f} s "
-            "(open them in any 360° viewer; they carry GPano metadata)"
+            "(open them in any 360° viewer; the panoramas carry GPano metadata)"
         )
     return written
+
+
+def _digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _read_manifest(directory: Path) -> dict[str, str]:
+    """name -> sha256 of the files an earlier run wrote into ``directory`` ({} if none)."""
+    try:
+        data = json.loads((directory / MANIFEST).read_text(encoding="utf-8"))
+        files = data["files"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return {}
+    if not isinstance(files, dict):
+        return {}
+    return {str(k): str(v) for k, v in files.items()}
+
+
+def _is_ours(path: Path, manifest: dict[str, str]) -> bool:
+    """True if the demo wrote ``path`` and it has not changed since."""
+    want = manifest.get(path.name)
+    return want is not None and path.is_file() and _digest(path) == want
+
+
+def _write_manifest(directory: Path, manifest: dict[str, str]) -> None:
+    path = directory / MANIFEST
+    tmp = path.with_name(f"{path.name}.{os.getpid()}.tmp")
+    text = json.dumps({"written_by": "spherewarp demo", "files": manifest}, indent=1)
+    tmp.write_text(text + "\n", encoding="utf-8")
+    os.replace(tmp, path)

@@ -401,7 +401,11 @@ def test_info_reports_crop_icc_and_non_2to1(capsys, workdir):
     assert data["icc_profile"]["bytes"] == len(icc)
     assert data["value_range"]["G"] == {"min": 7, "max": 7}
     text = ok(capsys, "info", "crop.png")
-    assert "cropped 200x40 at 0,30" in text and "--force" in text
+    assert data["full_sphere_size"] == [200, 100]
+    # the commands place the crop on its 2:1 sphere, so they need no --force
+    assert "cropped 200x40 at 0,30" in text and "--force" not in text
+    assert "200x100 sphere" in text
+    assert ok(capsys, "rotate", "crop.png", "--yaw", "10", "-o", "turned.png")
 
 
 def test_demo_command(capsys, workdir):
@@ -409,6 +413,9 @@ def test_demo_command(capsys, workdir):
     files = sorted(Path("d").glob("*.png"))
     assert len(files) >= 7
     assert out.count("wrote ") == len(files)
+    # a second run replaces the demo's own files
+    ok(capsys, "demo", "d", "--size", "128x64", "--supersample", "1")
+    files[0].write_bytes(b"not the demo's any more")
     code, _, err = run(capsys, "demo", "d", "--size", "128x64")
     assert code == 2 and "--overwrite" in err and err.count("\n") == 1
     ok(capsys, "demo", "d", "--size", "128x64", "--supersample", "1", "--overwrite")

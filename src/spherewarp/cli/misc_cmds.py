@@ -134,6 +134,7 @@ def image_info(path: Path, max_pixels: int | None = None) -> dict[str, Any]:
         ranges[name] = entry
     g = data.gpano
     gpano = None
+    placed = _placed_size(g, h, w)
     if g is not None:
         gpano = {
             "projection": g.projection_type,
@@ -141,6 +142,9 @@ def image_info(path: Path, max_pixels: int | None = None) -> dict[str, Any]:
             "cropped_size": [g.cropped_width, g.cropped_height],
             "cropped_left_top": [g.cropped_left, g.cropped_top],
             "cropped": bool(g.is_cropped),
+            "pose_degrees": None
+            if not g.has_pose
+            else {"heading": g.pose_heading, "pitch": g.pose_pitch, "roll": g.pose_roll},
         }
     return {
         "path": str(path),
@@ -151,6 +155,7 @@ def image_info(path: Path, max_pixels: int | None = None) -> dict[str, Any]:
         "channels": c,
         "channel_names": names,
         "equirectangular_2to1": w == 2 * h,
+        "full_sphere_size": None if placed is None else list(placed),
         "gpano": gpano,
         "icc_profile": None
         if data.icc_profile is None
@@ -160,16 +165,41 @@ def image_info(path: Path, max_pixels: int | None = None) -> dict[str, Any]:
     }
 
 
+def _placed_size(gpano: Any, height: int, width: int) -> tuple[int, int] | None:
+    """(W, H) of the full sphere that commands place a GPano-cropped file on, or None.
+
+    None when the file is read as stored: no GPano, not equirectangular, not
+    cropped, or a GPano that does not fit the image (read_image warns then).
+    """
+    from ..errors import InvalidValueError
+    from ..io.images import _scaled_placement
+
+    if gpano is None or gpano.projection_type.lower() != "equirectangular":
+        return None
+    if not gpano.is_cropped and (gpano.cropped_width, gpano.cropped_height) == (width, height):
+        return None
+    try:
+        fw, fh, _, _ = _scaled_placement(gpano, height, width)
+    except InvalidValueError:
+        return None
+    return fw, fh
+
+
 def _format_info(info: dict[str, Any]) -> str:
     def num(v: Any) -> str:
         return "n/a" if v is None else f"{v:g}" if isinstance(v, float) else str(v)
 
     w, h = info["width"], info["height"]
-    shape = (
-        "2:1, a full equirectangular sphere"
-        if info["equirectangular_2to1"]
-        else f"not 2:1 (ratio {w / h:.3g}); commands need --force"
-    )
+    placed = info.get("full_sphere_size")
+    if placed is not None:
+        fw, fh = placed
+        shape = f"a crop of a {fw}x{fh} sphere, by its GPano; commands read it placed on it"
+        if fw != 2 * fh:
+            shape += f", not 2:1 (ratio {fw / fh:.3g}): they need --force"
+    elif info["equirectangular_2to1"]:
+        shape = "2:1, a full equirectangular sphere"
+    else:
+        shape = f"not 2:1 (ratio {w / h:.3g}); commands need --force"
     g = info["gpano"]
     if g is None:
         gp = "none"
@@ -179,6 +209,9 @@ def _format_info(info: dict[str, Any]) -> str:
         left, top = g["cropped_left_top"]
         gp = f"{g['projection']}, full {fw}x{fh}"
         gp += f", cropped {cw}x{ch} at {left},{top}" if g["cropped"] else " (not cropped)"
+        pose = g.get("pose_degrees")
+        if pose:
+            gp += ", pose " + ", ".join(f"{k} {v:g}°" for k, v in pose.items() if v is not None)
     icc = info["icc_profile"]
     icc_s = "none" if icc is None else f"{icc['bytes']} bytes"
     if icc and icc["description"]:

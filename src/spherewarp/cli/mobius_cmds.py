@@ -78,10 +78,56 @@ def check_output_suffix(path: Path) -> None:
         )
 
 
+def _view_yaw(moves: Any) -> float | None:
+    """How far (degrees) a map turns the view right about the vertical, or None if not a yaw.
+
+    ``moves`` moves the content; a yaw moves the content at longitude ``lon`` to
+    ``lon - yaw``, so the centre then shows what was ``yaw`` degrees to the right.
+    """
+    if not moves.is_rotation():
+        return None
+    rot = moves.to_rotation_matrix()
+    if abs(rot[2, 2] - 1.0) > 1e-9:
+        return None
+    yaw = -math.degrees(math.atan2(rot[1, 0], rot[0, 0]))
+    return 0.0 if abs(yaw) < 1e-9 else yaw
+
+
+def _output_gpano(src: Any, shape: tuple[int, ...], pose_moves: Any, command: str) -> Any:
+    """The output's GPano: the input's pose turned with the view, kept, or dropped.
+
+    ``pose_moves`` is the turn of the sphere that the recorded pose must follow
+    (identity: the pose still holds; None: it no longer describes the pixels).
+    A pose that cannot follow is dropped with a note on stderr.
+    """
+    gpano = getattr(src, "gpano", None)
+    if gpano is None or not gpano.has_pose:
+        return True  # a plain full-sphere GPano
+    full = gpano.as_full_sphere(int(shape[1]), int(shape[0]))
+    yaw = None if pose_moves is None else _view_yaw(pose_moves)
+    turned = None if yaw is None else full.turned(yaw)
+    if turned is None:
+        click.echo(
+            f"note: the input's GPano pose (PoseHeadingDegrees/PitchDegrees/RollDegrees) "
+            f"does not describe the {command} output; it is left out",
+            err=True,
+        )
+        return full.without_pose()
+    return turned
+
+
 def _render(
-    input: Path, render: RenderOptions, forward: Any, command: str, src: Any = None
+    input: Path,
+    render: RenderOptions,
+    forward: Any,
+    command: str,
+    src: Any = None,
+    pose_moves: Any = None,
 ) -> None:
-    """Read INPUT (unless ``src`` has it), push it forward by ``forward``, write the result."""
+    """Read INPUT (unless ``src`` has it), push it forward by ``forward``, write the result.
+
+    ``pose_moves``: see :func:`_output_gpano`.
+    """
     from ..render import warp
     from ._common import load_input, output_path, save_output
 
@@ -89,7 +135,8 @@ def _render(
         src = load_input(input, render)
     check_output_suffix(output_path(render, src.path, command))  # refuse a bad output early
     out = warp(src.pixels, forward.inverse(), **render.warp_kwargs(src.pixels))
-    save_output(out, src, render, command=command)
+    gpano = _output_gpano(src, out.shape, pose_moves, command)
+    save_output(out, src, render, command=command, gpano=gpano)
 
 
 @click.command(
@@ -132,6 +179,11 @@ def rotate(
     (yaw, then pitch, then roll): --yaw 90 brings what was at longitude +90
     (the right) to the centre. --axis/--angle turn the content about a point
     instead. Give one form or the other.
+
+    360° metadata: a GPano pose recorded in INPUT (PoseHeadingDegrees, ...)
+    follows a turn about the vertical (--yaw alone, or an --axis at a pole):
+    the heading becomes heading + yaw. Any other rotation tilts the image away
+    from the recorded pose, which is then left out (a note says so).
     """
     from ..maps import Mobius
 
@@ -153,7 +205,7 @@ def rotate(
     if print_map:
         click.echo(forward.to_json())
         return
-    _render(input, render, forward, "rotate")
+    _render(input, render, forward, "rotate", pose_moves=forward)
 
 
 @click.command(
@@ -194,6 +246,12 @@ def zoom(
     opposite point shrinks FACTOR times; both points stay where they are
     (unless --center). The map is conformal: shapes stay undistorted in the
     small.
+
+    360° metadata: a GPano pose recorded in INPUT is kept: the point zoomed
+    toward and its opposite stay where they were, neither moved nor turned, so
+    the pose still places them. With --center it follows the turn to the
+    centre when that is a turn about the vertical (a point on the horizon) and
+    is left out otherwise.
     """
     from ..maps import Mobius
 
@@ -214,15 +272,17 @@ def zoom(
                 f"expected a pixel inside the {w}x{h} input (0..{w}, 0..{h}), got {x:g},{y:g}",
                 param_hint="'--at-pixel'",
             )
-        lon, lat = np.degrees(coords.lonlat_from_pixel(np.array([x, y]), w, h))
+        lon, lat = coords.lonlat_deg_from_pixel(np.array([x, y]), w, h)
         at = (float(lon), float(lat))
     forward = Mobius.zoom(at, factor)
+    pose_moves = Mobius.identity()
     if center:
-        forward = Mobius.rotation_to(at, (0.0, 0.0)) @ forward
+        pose_moves = Mobius.rotation_to(at, (0.0, 0.0))
+        forward = pose_moves @ forward
     if print_map:
         click.echo(forward.to_json())
         return
-    _render(input, render, forward, "zoom", src)
+    _render(input, render, forward, "zoom", src, pose_moves=pose_moves)
 
 
 @click.command(
@@ -266,6 +326,9 @@ def mobius(
 
     Content at p moves to M(p). With --from/--to the map is the unique
     Möbius transformation sending each --from point to its --to point.
+
+    360° metadata: a GPano pose recorded in INPUT follows a map that turns the
+    sphere about the vertical, and is left out otherwise (a note says so).
     """
     from ..errors import InvalidValueError
     from ..maps import Mobius
@@ -295,7 +358,7 @@ def mobius(
     if print_map:
         click.echo(forward.to_json())
         return
-    _render(input, render, forward, "mobius")
+    _render(input, render, forward, "mobius", pose_moves=forward)
 
 
 def _check_distinct(points: tuple[tuple[float, float], ...], option: str) -> None:

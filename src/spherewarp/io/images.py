@@ -810,7 +810,7 @@ def read_image(
             except InvalidValueError as exc:
                 warnings.warn(f"{p}: not placed on the full sphere: {exc}", stacklevel=2)
             else:
-                gpano = GPano.full_sphere(arr.shape[1], arr.shape[0])
+                gpano = gpano.as_full_sphere(arr.shape[1], arr.shape[0])
     return ImageData(
         pixels=np.ascontiguousarray(arr),
         icc_profile=bytes(icc) if icc else None,

@@ -13,7 +13,14 @@ this module reads and writes are:
 ``CroppedAreaImageHeightPixels``  height of the part stored in the file
 ``CroppedAreaLeftPixels``         column of the stored part in the full sphere
 ``CroppedAreaTopPixels``          row of the stored part in the full sphere
+``PoseHeadingDegrees``            compass heading of the image centre
+``PosePitchDegrees``              pitch of the camera (0: level)
+``PoseRollDegrees``               roll of the camera (0: level)
 ================================  =======================================
+
+The pose properties are optional: read when present, written when set. They
+hold for the pixels as captured; an edit that turns the image updates them
+(:meth:`GPano.turned`) or drops them (:meth:`GPano.without_pose`).
 
 :func:`parse_gpano` accepts the two forms that XMP writers use, properties as
 attributes of ``rdf:Description`` or as child elements, and parses with
@@ -32,8 +39,9 @@ True
 
 from __future__ import annotations
 
+import math
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from xml.sax.saxutils import quoteattr
 
 from ..errors import InvalidTypeError, InvalidValueError
@@ -54,6 +62,23 @@ _INT_PROPERTIES = {
     "CroppedAreaLeftPixels": "cropped_left",
     "CroppedAreaTopPixels": "cropped_top",
 }
+
+# XMP property name -> GPano field name, for the (optional) pose in degrees.
+_POSE_PROPERTIES = {
+    "PoseHeadingDegrees": "pose_heading",
+    "PosePitchDegrees": "pose_pitch",
+    "PoseRollDegrees": "pose_roll",
+}
+
+
+def _check_angle(name: str, value: object) -> float | None:
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InvalidTypeError(f"GPano {name} must be a number, got {type(value).__name__}")
+    if not math.isfinite(value):
+        raise InvalidValueError(f"GPano {name} must be finite, got {value}")
+    return float(value)
 
 
 def _check_int(name: str, value: object, minimum: int) -> int:
@@ -82,6 +107,11 @@ class GPano:
         Size of the part stored in the file; ``None`` means the full size.
     cropped_left, cropped_top : int
         Position of the stored part's top-left pixel in the full panorama.
+    pose_heading, pose_pitch, pose_roll : float or None
+        The camera's pose in degrees (``PoseHeadingDegrees``: compass heading
+        of the centre of the full panorama, kept in [0, 360);
+        ``PosePitchDegrees`` in [-90, 90]; ``PoseRollDegrees``, kept in
+        (-180, 180]); None when the file does not say.
 
     Raises
     ------
@@ -90,7 +120,8 @@ class GPano:
     InvalidValueError
         If a size is not positive, an offset is negative, or the stored part
         does not fit in the full panorama (it may wrap horizontally across the
-        seam, never vertically).
+        seam, never vertically), or a pose angle is not finite or the pitch is
+        outside [-90, 90].
 
     Examples
     --------
@@ -109,6 +140,9 @@ class GPano:
     cropped_height: int | None = None
     cropped_left: int = 0
     cropped_top: int = 0
+    pose_heading: float | None = None
+    pose_pitch: float | None = None
+    pose_roll: float | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.projection_type, str):
@@ -134,6 +168,18 @@ class GPano:
             )
         object.__setattr__(self, "cropped_width", cw)
         object.__setattr__(self, "cropped_height", ch)
+        heading = _check_angle("pose_heading", self.pose_heading)
+        pitch = _check_angle("pose_pitch", self.pose_pitch)
+        roll = _check_angle("pose_roll", self.pose_roll)
+        if pitch is not None and not -90.0 <= pitch <= 90.0:
+            raise InvalidValueError(f"GPano pose_pitch must be in [-90, 90], got {pitch}")
+        if heading is not None:
+            heading %= 360.0
+        if roll is not None:
+            roll = 180.0 - (180.0 - roll) % 360.0
+        object.__setattr__(self, "pose_heading", heading)
+        object.__setattr__(self, "pose_pitch", pitch)
+        object.__setattr__(self, "pose_roll", roll)
 
     @classmethod
     def full_sphere(cls, width: int, height: int) -> GPano:
@@ -143,9 +189,64 @@ class GPano:
         --------
         >>> GPano.full_sphere(8, 4)  # doctest: +NORMALIZE_WHITESPACE
         GPano(projection_type='equirectangular', full_width=8, full_height=4,
-              cropped_width=8, cropped_height=4, cropped_left=0, cropped_top=0)
+              cropped_width=8, cropped_height=4, cropped_left=0, cropped_top=0,
+              pose_heading=None, pose_pitch=None, pose_roll=None)
         """
         return cls(full_width=width, full_height=height)
+
+    @property
+    def has_pose(self) -> bool:
+        """True when any of the pose angles is set."""
+        return any(v is not None for v in (self.pose_heading, self.pose_pitch, self.pose_roll))
+
+    @property
+    def is_level(self) -> bool:
+        """True when the pose has no pitch and no roll (absent or 0)."""
+        return not self.pose_pitch and not self.pose_roll
+
+    def as_full_sphere(self, width: int, height: int) -> GPano:
+        """An uncropped equirectangular ``width`` x ``height`` sphere with this pose.
+
+        Examples
+        --------
+        >>> g = GPano(full_width=400, full_height=200, cropped_height=100, pose_heading=30)
+        >>> g.as_full_sphere(800, 400).is_cropped, g.as_full_sphere(800, 400).pose_heading
+        (False, 30.0)
+        """
+        return replace(
+            GPano.full_sphere(width, height),
+            pose_heading=self.pose_heading,
+            pose_pitch=self.pose_pitch,
+            pose_roll=self.pose_roll,
+        )
+
+    def without_pose(self) -> GPano:
+        """This GPano with no pose (for pixels the recorded pose no longer describes)."""
+        return replace(self, pose_heading=None, pose_pitch=None, pose_roll=None)
+
+    def turned(self, yaw: float) -> GPano | None:
+        """The GPano of the image turned by ``yaw`` degrees about the vertical, or None.
+
+        After ``spherewarp rotate --yaw YAW`` the centre shows what was ``YAW``
+        degrees to its right, so the heading becomes ``heading + yaw``. That
+        holds for a level pose only (pitch and roll absent or 0): for a tilted
+        one no heading/pitch/roll of the turned image is known here, and None
+        is returned (drop the pose).
+
+        Examples
+        --------
+        >>> GPano(full_width=8, full_height=4, pose_heading=350.0).turned(30).pose_heading
+        20.0
+        >>> GPano(full_width=8, full_height=4, pose_pitch=5.0).turned(30) is None
+        True
+        """
+        if float(yaw) % 360.0 == 0.0:
+            return self
+        if not self.is_level:
+            return None
+        if self.pose_heading is None:
+            return self
+        return replace(self, pose_heading=self.pose_heading + float(yaw))
 
     @property
     def is_cropped(self) -> bool:
@@ -162,8 +263,8 @@ def gpano_xmp(gpano: GPano) -> str:
     """Return a complete XMP packet (``<x:xmpmeta>`` in ``<?xpacket?>``) describing ``gpano``.
 
     The packet holds ``ProjectionType``, ``UsePanoramaViewer="True"``, the full
-    size, the cropped size and the cropped offsets, as attributes of one
-    ``rdf:Description``. It is plain ASCII apart from the BOM in the
+    size, the cropped size and the cropped offsets, and the pose angles that
+    are set, as attributes of one ``rdf:Description``. It is plain ASCII apart from the BOM in the
     ``xpacket`` header that the XMP specification asks for; encode it as UTF-8.
 
     Parameters
@@ -199,6 +300,10 @@ def gpano_xmp(gpano: GPano) -> str:
         ("CroppedAreaLeftPixels", gpano.cropped_left),
         ("CroppedAreaTopPixels", gpano.cropped_top),
     ]
+    for name, field in _POSE_PROPERTIES.items():
+        value = getattr(gpano, field)
+        if value is not None:
+            props.append((name, f"{value:.10g}"))
     attrs = "".join(f"\n    GPano:{name}={quoteattr(str(value))}" for name, value in props)
     return (
         '<?xpacket begin="\ufeff" id="W5M0MpCehiHzreSzNTczkc9d"?>\n'
@@ -241,6 +346,16 @@ def _parse_int(name: str, text: str) -> int:
     if value != value or value != int(value):
         raise InvalidValueError(f"GPano:{name} must be an integer, got {text!r}")
     return int(value)
+
+
+def _parse_angle(name: str, text: str) -> float:
+    try:
+        value = float(text.strip())
+    except ValueError:
+        value = float("nan")
+    if not math.isfinite(value):
+        raise InvalidValueError(f"GPano:{name} must be a number of degrees, got {text!r}")
+    return value
 
 
 def parse_gpano(xmp: bytes | str) -> GPano | None:
@@ -320,12 +435,16 @@ def parse_gpano(xmp: bytes | str) -> GPano | None:
     for name, field in _INT_PROPERTIES.items():
         if name in found and found[name] != "":
             values[field] = _parse_int(name, found[name])
+    pose: dict[str, float] = {}
+    for name, field in _POSE_PROPERTIES.items():
+        if found.get(name, "").strip():
+            pose[field] = _parse_angle(name, found[name])
     values.setdefault("full_width", values.get("cropped_width", 0))
     values.setdefault("full_height", values.get("cropped_height", 0))
     if not values["full_width"] or not values["full_height"]:
         return None
     projection = found.get("ProjectionType", "").strip() or "equirectangular"
     try:
-        return GPano(projection_type=projection, **values)
+        return GPano(projection_type=projection, **values, **pose)
     except InvalidTypeError as exc:  # pragma: no cover - values are ints here
         raise InvalidValueError(str(exc)) from None

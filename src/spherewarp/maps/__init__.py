@@ -42,8 +42,18 @@ _LAZY = {
     "fit_rational": "rational",
 }
 
-#: every module that registers map kinds (read by map_from_dict for unknown kinds)
-MAP_MODULES = ("mobius", "branched", "droste", "elliptic", "expression", "rational")
+#: every module that registers map kinds, by full name (map_from_dict imports them all when
+#: it meets a kind it does not know yet, so that JSON reads back in a fresh interpreter);
+#: SheetedCover lives in spherewarp.splitscreen
+MAP_MODULES = (
+    "spherewarp.maps.mobius",
+    "spherewarp.maps.branched",
+    "spherewarp.maps.droste",
+    "spherewarp.maps.elliptic",
+    "spherewarp.maps.expression",
+    "spherewarp.maps.rational",
+    "spherewarp.splitscreen",
+)
 
 __all__ = [
     "Composite",

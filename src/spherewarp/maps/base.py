@@ -312,7 +312,7 @@ def map_from_dict(data: dict[str, Any]) -> SphereMap:
         from . import MAP_MODULES
 
         for name in MAP_MODULES:
-            importlib.import_module(f"{__package__}.{name}")
+            importlib.import_module(name)
     try:
         cls = _REGISTRY[str(kind).lower()]
     except KeyError:
