@@ -110,7 +110,7 @@ def main(argv: list[str] | None = None) -> Any:
         click.echo(f"{prog}: error: {_one_line(exc.format_message())}{where}", err=True)
         sys.exit(exc.exit_code if exc.exit_code else 2)
     except SpherewarpError as exc:
-        click.echo(f"{prog}: error: {_one_line(exc)}", err=True)
+        click.echo(f"{prog}: error: {_one_line(exc.cli_message)}", err=True)
         sys.exit(2)
     except (KeyboardInterrupt, _Interrupted):
         click.echo(f"{prog}: interrupted (no partially written file is left)", err=True)

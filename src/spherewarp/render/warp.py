@@ -93,9 +93,10 @@ def check_equirect(image: NDArray, force: bool = False, name: str = "image") -> 
     """
     h, w = image.shape[:2]
     if w != 2 * h and not force:
+        what = f"{name}: expected an equirectangular image with width = 2 x height, got {w}x{h}"
         raise InvalidValueError(
-            f"{name}: expected an equirectangular image with width = 2 x height, got {w}x{h} "
-            "(force=True, or --force, treats it as equirectangular anyway)"
+            f"{what} (force=True treats it as equirectangular anyway)",
+            cli=f"{what} (--force treats it as equirectangular anyway)",
         )
 
 
