@@ -57,6 +57,10 @@ class LazyGroup(click.Group):
             return super().invoke(ctx)
         except KeyboardInterrupt:
             raise _Interrupted from None
+        finally:  # clear a progress bar left by an error, before the error line
+            bars = sys.modules.get(f"{__name__}._progress")
+            if bars is not None:
+                bars.close_all()
 
     def list_commands(self, ctx: click.Context) -> list[str]:
         return sorted(COMMANDS)
