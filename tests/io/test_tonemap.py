@@ -93,3 +93,9 @@ def test_parse_color() -> None:
     for bad in ("#12345", "mauve", "#gg0000", ""):
         with pytest.raises(InvalidValueError, match="colour"):
             parse_color(bad)
+
+
+def test_cli_lists_the_same_tonemaps() -> None:
+    from spherewarp.cli._common import _TONEMAPS
+
+    assert _TONEMAPS == TONEMAPS

@@ -215,6 +215,9 @@ COMPLEX = ComplexType()
 SIZE = SizeType()
 
 
+_NOTES_SHOWN: set[str] = set()
+
+
 @dataclass(frozen=True)
 class RenderOptions:
     """The options every rendering command shares."""
@@ -244,8 +247,10 @@ class RenderOptions:
         return bar if bar.enabled else None
 
     def note(self, text: str) -> None:
-        """Print ``spherewarp: note: TEXT`` on stderr, unless ``--quiet``."""
-        if not self.quiet:
+        """Print ``spherewarp: note: TEXT`` on stderr, unless ``--quiet`` or already printed
+        (a command writing many frames says it once)."""
+        if not self.quiet and text not in _NOTES_SHOWN:
+            _NOTES_SHOWN.add(text)
             click.echo(f"spherewarp: note: {text}", err=True)
 
     def warp_kwargs(self, pixels: Any) -> dict[str, Any]:
@@ -300,7 +305,9 @@ def render_options(func: Callable) -> Callable:
             type=click.Choice(["bilinear", "bicubic", "nearest"], case_sensitive=False),
             default="bilinear",
             show_default=True,
-            help="Sampling of the input.",
+            help="Sampling of the input. The area filter (--antialias auto/area) averages "
+            "the bilinear surface; with bicubic or nearest, area becomes uniform 4x4 "
+            "supersampling.",
         ),
         click.option(
             "--supersample",
@@ -346,7 +353,7 @@ def render_options(func: Callable) -> Callable:
             type=RealType("an exposure in stops", "1 or -0.5", metavar="EV", ge=-20, le=20),
             default=0.0,
             show_default=True,
-            help="Scale HDR values by 2**EV before tone mapping.",
+            help="Scale HDR values by 2^EV (EV stops) before tone mapping.",
         ),
         click.option(
             "--background",
