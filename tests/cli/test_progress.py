@@ -56,6 +56,22 @@ def test_progress_of_several_sheets() -> None:
     assert seen[0][0] == 0 and seen[-1][0] == seen[-1][1]
 
 
+def test_progress_of_peirce_and_torus() -> None:
+    from spherewarp.projections import peirce_to_equirect, render_peirce
+    from spherewarp.torus import render_torus
+
+    for render in (
+        lambda p: render_peirce(IMG, 600, progress=p),
+        lambda p: peirce_to_equirect(IMG[:, :64], (300, 600), progress=p),
+        lambda p: render_torus(IMG, width=600, progress=p),
+    ):
+        seen: list[tuple[int, int]] = []
+        render(lambda d, t, seen=seen: seen.append((d, t)))
+        done = [d for d, _ in seen]
+        assert len(seen) > 2 and done[0] == 0 and done == sorted(done)
+        assert done[-1] == seen[-1][1]
+
+
 def test_a_failing_progress_callback_stops_the_render() -> None:
     def boom(done: int, total: int) -> None:
         if done:
