@@ -197,7 +197,8 @@ def warp(
         ``done`` (about every 0.1 s on the fast path, per band of rows on the
         others), last with ``done == total`` when the image is complete. The
         unit of work (tiles, rows) depends on the path: read ``done / total``
-        as the fraction done. An exception it raises stops the render.
+        as the fraction done. An exception it raises ends the call (on the
+        fast path once the compiled workers have finished their share).
 
     Returns
     -------
