@@ -46,6 +46,7 @@ from __future__ import annotations
 
 import functools
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -217,6 +218,7 @@ def render_peirce(
     interp: str = "bilinear",
     supersample: int = 1,
     force: bool = False,
+    progress: Any = None,
 ) -> NDArray:
     """Render an equirectangular image in Peirce's quincuncial projection.
 
@@ -234,6 +236,9 @@ def render_peirce(
         Average ``n x n`` samples per output pixel.
     force : bool
         Accept an input that is not 2:1.
+    progress : callable, optional
+        ``progress(done, total)`` per band of output rows, as for
+        :func:`~spherewarp.render.warp`.
 
     Returns
     -------
@@ -260,6 +265,7 @@ def render_peirce(
     rows_per_tile = max(1, _TILE_PIXELS // (n * ss * ss))
     cols = np.arange(n, dtype=np.float64)
     for r0 in range(0, n, rows_per_tile):
+        _report(progress, r0, n)
         r1 = min(n, r0 + rows_per_tile)
         rows = np.arange(r0, r1, dtype=np.float64)
         acc = np.zeros((r1 - r0, n, img.shape[2]), np.float32)
@@ -271,7 +277,13 @@ def render_peirce(
                 px = coords.pixel_from_lonlat(coords.lonlat_from_xyz(xyz), w, h)
                 acc += sample(img, px[..., 0], px[..., 1], interp)
         out[r0:r1] = _to_dtype(acc / np.float32(ss * ss), img.dtype)
+    _report(progress, n, n)
     return out
+
+
+def _report(progress: Any, done: int, total: int) -> None:
+    if progress is not None:
+        progress(done, total)
 
 
 def _check_supersample(supersample: object) -> int:
@@ -309,6 +321,7 @@ def peirce_to_equirect(
     lon0: float = 0.0,
     interp: str = "bilinear",
     supersample: int = 1,
+    progress: Any = None,
 ) -> NDArray:
     """Turn a Peirce quincuncial square image back into an equirectangular one.
 
@@ -325,6 +338,9 @@ def peirce_to_equirect(
         Central meridian in degrees, as the square was made with.
     interp : {"bilinear", "nearest", "bicubic"}
     supersample : int
+    progress : callable, optional
+        ``progress(done, total)`` per band of output rows, as for
+        :func:`~spherewarp.render.warp`.
 
     Returns
     -------
@@ -365,6 +381,7 @@ def peirce_to_equirect(
     rows_per_tile = max(1, _TILE_PIXELS // (w_out * ss * ss))
     cols = np.arange(w_out, dtype=np.float64)
     for r0 in range(0, h_out, rows_per_tile):
+        _report(progress, r0, h_out)
         r1 = min(h_out, r0 + rows_per_tile)
         rows = np.arange(r0, r1, dtype=np.float64)
         acc = np.zeros((r1 - r0, w_out, sq.shape[2]), np.float32)
@@ -377,4 +394,5 @@ def peirce_to_equirect(
                 y = (1.0 - v) * (n / 2.0) + pad
                 acc += sample(padded, x, y, interp)
         out[r0:r1] = _to_dtype(acc / np.float32(ss * ss), sq.dtype)
+    _report(progress, h_out, h_out)
     return out

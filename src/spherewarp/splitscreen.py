@@ -605,6 +605,7 @@ def splitscreen(
     force: bool = False,
     antialias: str | int = "auto",
     threads: int | None = None,
+    progress: Any = None,
 ) -> NDArray:
     """Combine panoramas on the sheets of a branched cover, with feathered seams.
 
@@ -634,7 +635,7 @@ def splitscreen(
         Pull the result back by this map too (applied first), e.g.
         ``Mobius.rotation_to((0, 0), (0, 90))`` to put the zenith branch
         point at the centre.
-    output_shape, interp, supersample, force, antialias, threads
+    output_shape, interp, supersample, force, antialias, threads, progress
         As for :func:`~spherewarp.render.warp` (``output_shape`` defaults to
         the common input size). Supersample the exp cover: its sheets shrink
         to points at the back.
@@ -680,6 +681,7 @@ def splitscreen(
         "antialias": antialias,
         "threads": threads,
         "force": True,
+        "progress": progress,
     }
     if m == 1 or feather == 0:
         sheets = SheetedCover(cov, m, seam_lon, view=view)

@@ -43,6 +43,7 @@ import math
 import os
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -98,6 +99,7 @@ def _pull(
     lattice: str,
     interp: str,
     supersample: int,
+    progress: Any = None,
 ) -> NDArray:
     from .render.sampling import check_interp, sample
 
@@ -110,6 +112,8 @@ def _pull(
     rows_per_tile = max(1, _TILE_PIXELS // (w * ss * ss))
     cols = np.arange(w, dtype=np.float64)
     for r0 in range(0, h, rows_per_tile):
+        if progress is not None:
+            progress(r0, h)
         r1 = min(h, r0 + rows_per_tile)
         rows = np.arange(r0, r1, dtype=np.float64)
         acc = np.zeros((r1 - r0, w, img.shape[2]), np.float32)
@@ -125,6 +129,8 @@ def _pull(
             info = np.iinfo(img.dtype)
             acc = np.clip(np.rint(acc), info.min, info.max)
         out[r0:r1] = acc.astype(img.dtype)
+    if progress is not None:
+        progress(h, h)
     return out
 
 
@@ -163,6 +169,7 @@ def render_torus(
     interp: str = "bilinear",
     supersample: int = 1,
     force: bool = False,
+    progress: Any = None,
 ) -> NDArray:
     """The toroidal image of a panorama: its pull-back by ℘̃ over a window of cells.
 
@@ -181,6 +188,9 @@ def render_torus(
     supersample : int
     force : bool
         Accept an input that is not 2:1.
+    progress : callable, optional
+        ``progress(done, total)`` per band of output rows, as for
+        :func:`~spherewarp.render.warp`.
 
     Returns
     -------
@@ -200,7 +210,7 @@ def render_torus(
     def plane(x: NDArray, y: NDArray) -> NDArray:
         return x * (wx / w) + 1j * (wy - y * (wy / h))
 
-    return _pull(img, plane, (h, w), lat, interp, ss)
+    return _pull(img, plane, (h, w), lat, interp, ss, progress)
 
 
 def render_torus_texture(

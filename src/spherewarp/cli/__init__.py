@@ -57,6 +57,10 @@ class LazyGroup(click.Group):
             return super().invoke(ctx)
         except KeyboardInterrupt:
             raise _Interrupted from None
+        finally:  # clear a progress bar left by an error, before the error line
+            bars = sys.modules.get(f"{__name__}._progress")
+            if bars is not None:
+                bars.close_all()
 
     def list_commands(self, ctx: click.Context) -> list[str]:
         return sorted(COMMANDS)
@@ -110,7 +114,7 @@ def main(argv: list[str] | None = None) -> Any:
         click.echo(f"{prog}: error: {_one_line(exc.format_message())}{where}", err=True)
         sys.exit(exc.exit_code if exc.exit_code else 2)
     except SpherewarpError as exc:
-        click.echo(f"{prog}: error: {_one_line(exc)}", err=True)
+        click.echo(f"{prog}: error: {_one_line(exc.cli_message)}", err=True)
         sys.exit(2)
     except (KeyboardInterrupt, _Interrupted):
         click.echo(f"{prog}: interrupted (no partially written file is left)", err=True)

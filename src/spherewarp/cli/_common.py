@@ -39,6 +39,9 @@ __all__ = [
     "load_input",
     "save_output",
     "output_path",
+    "OutputPlan",
+    "plan_output",
+    "convert_for_output",
 ]
 
 
@@ -143,6 +146,21 @@ class AntialiasType(click.ParamType):
         return n
 
 
+class ColorType(click.ParamType):
+    """A colour name (black, white, grey, ...) or hex code ``#RRGGBB``."""
+
+    name = "COLOR"
+
+    def convert(self, value: Any, param: Any, ctx: Any) -> str:
+        from ..io.tonemap import parse_color
+
+        try:
+            parse_color(value)
+        except InvalidValueError as exc:
+            self.fail(str(exc), param, ctx)
+        return str(value).strip()
+
+
 class RealType(click.ParamType):
     """A finite real number, optionally bounded: ``RealType("a zoom factor", "2", gt=0)``.
 
@@ -197,6 +215,9 @@ COMPLEX = ComplexType()
 SIZE = SizeType()
 
 
+_NOTES_SHOWN: set[str] = set()
+
+
 @dataclass(frozen=True)
 class RenderOptions:
     """The options every rendering command shares."""
@@ -210,6 +231,27 @@ class RenderOptions:
     quality: int
     antialias: str | int = "auto"
     threads: int | None = None
+    tonemap: str = "aces"
+    exposure: float = 0.0
+    background: str | None = None
+    quiet: bool = False
+
+    def progress(self, desc: str = "rendering") -> Any:
+        """A ``progress`` callback for :func:`spherewarp.warp`: a bar on a terminal
+        (:mod:`spherewarp.cli._progress`), or None with ``--quiet``."""
+        if self.quiet:
+            return None
+        from ._progress import ProgressBar
+
+        bar = ProgressBar(desc)
+        return bar if bar.enabled else None
+
+    def note(self, text: str) -> None:
+        """Print ``spherewarp: note: TEXT`` on stderr, unless ``--quiet`` or already printed
+        (a command writing many frames says it once)."""
+        if not self.quiet and text not in _NOTES_SHOWN:
+            _NOTES_SHOWN.add(text)
+            click.echo(f"spherewarp: note: {text}", err=True)
 
     def warp_kwargs(self, pixels: Any) -> dict[str, Any]:
         """Keyword arguments for :func:`spherewarp.warp`."""
@@ -219,6 +261,7 @@ class RenderOptions:
             "antialias": self.antialias,
             "threads": self.threads,
             "force": self.force,
+            "progress": self.progress(),
         }
         if self.size is not None:
             kwargs["output_shape"] = (self.size[1], self.size[0])
@@ -232,17 +275,25 @@ def input_argument(func: Callable) -> Callable:
     )(func)
 
 
+_TONEMAPS = ("aces", "reinhard", "clip")  # spherewarp.io.tonemap.TONEMAPS (not imported here)
+
+
 def render_options(func: Callable) -> Callable:
     """``-o``, ``--overwrite``, ``--force``, ``--size``, ``--interp``, ``--supersample``,
-    ``--antialias``, ``--threads``,
-    ``--quality``; the command receives them as one ``render`` argument."""
+    ``--antialias``, ``--threads``, ``--quality``, ``--tonemap``, ``--exposure``,
+    ``--background``, ``--quiet``; the command receives them as one ``render`` argument."""
     options = [
         click.option(
             "-o",
             "--output",
             type=click.Path(dir_okay=False, path_type=Path),
-            help="Output file; its extension picks the format. "
-            "Default: INPUT's name with the command appended, in the current directory.",
+            help="Output file; its extension picks the format (.jpg .png .tif .webp .exr). "
+            "Default: INPUT's name with the command appended, in the current directory. "
+            "The sample type is kept where the format holds it (8/16-bit PNG and TIFF, "
+            "float TIFF and EXR); else it is converted, with a note: HDR (float) to "
+            "JPEG/WebP is tone-mapped to 8-bit sRGB and to PNG to 16-bit (--tonemap), "
+            "16-bit to JPEG/WebP becomes 8-bit, and transparency (a cropped panorama's "
+            "uncovered part) is flattened for JPEG (--background).",
         ),
         click.option("--overwrite", is_flag=True, help="Replace an existing output file."),
         click.option(
@@ -254,7 +305,9 @@ def render_options(func: Callable) -> Callable:
             type=click.Choice(["bilinear", "bicubic", "nearest"], case_sensitive=False),
             default="bilinear",
             show_default=True,
-            help="Sampling of the input.",
+            help="Sampling of the input. The area filter (--antialias auto/area) averages "
+            "the bilinear surface; with bicubic or nearest, area becomes uniform 4x4 "
+            "supersampling.",
         ),
         click.option(
             "--supersample",
@@ -286,6 +339,36 @@ def render_options(func: Callable) -> Callable:
             show_default=True,
             help="JPEG/WebP quality.",
         ),
+        click.option(
+            "--tonemap",
+            type=click.Choice(list(_TONEMAPS), case_sensitive=False),
+            default="aces",
+            show_default=True,
+            help="How HDR (float, linear light: EXR) becomes 8/16-bit sRGB for JPEG, PNG or "
+            "WebP. aces: filmic curve, keeps mid-tone contrast and rolls highlights (lamps, "
+            "windows) off instead of cutting them to white; reinhard: x/(1+x), never "
+            "clips, flatter; clip: linear, highlights above 1 cut off.",
+        ),
+        click.option(
+            "--exposure",
+            type=RealType("an exposure in stops", "1 or -0.5", metavar="EV", ge=-20, le=20),
+            default=0.0,
+            show_default=True,
+            help="Scale HDR values by 2^EV (EV stops) before tone mapping.",
+        ),
+        click.option(
+            "--background",
+            type=ColorType(),
+            help="Flatten transparency onto this colour (name or #RRGGBB) and drop the alpha "
+            "channel. Default: kept where the format has alpha; black for JPEG.",
+        ),
+        click.option(
+            "-q",
+            "--quiet",
+            is_flag=True,
+            help="No progress bar and no notes (the 'wrote ...' line stays). The bar "
+            "appears only on a terminal, for renders longer than a second.",
+        ),
     ]
 
     def wrapper(**kwargs: Any) -> Any:
@@ -299,6 +382,10 @@ def render_options(func: Callable) -> Callable:
             quality=kwargs.pop("quality"),
             antialias=kwargs.pop("antialias"),
             threads=kwargs.pop("threads"),
+            tonemap=kwargs.pop("tonemap").lower(),
+            exposure=kwargs.pop("exposure"),
+            background=kwargs.pop("background"),
+            quiet=kwargs.pop("quiet"),
         )
         return func(render=render, **kwargs)
 
@@ -353,6 +440,7 @@ def save_output(
 ) -> Path:
     """Write the result atomically, carrying ICC profile and EXIF over from ``source``.
 
+    Pixels the format cannot hold are converted first (:func:`convert_for_output`).
     ``source`` is the input's ``ImageData`` (or None). ``gpano=False`` for outputs that
     are not equirectangular panoramas (a Peirce square, a torus texture). Prints the path
     written.
@@ -360,6 +448,7 @@ def save_output(
     from ..io import write_image
 
     out = output_path(render, getattr(source, "path", None), command)
+    pixels = convert_for_output(pixels, out, render)
     written = write_image(
         out,
         pixels,
@@ -371,3 +460,106 @@ def save_output(
     )
     click.echo(f"wrote {written}")
     return Path(written)
+
+
+@dataclass(frozen=True)
+class OutputPlan:
+    """What :func:`convert_for_output` does to pixels for a format.
+
+    Attributes
+    ----------
+    format : str
+        The format name (``"JPEG"``, ...), ``""`` for an unknown extension.
+    dtype : str
+        The sample type written (``"uint8"``, ``"uint16"``, ``"float32"``).
+    tonemap : bool
+        HDR float pixels are tone-mapped to display values first.
+    flatten : bool
+        The alpha channel is flattened onto the background colour.
+    reduce : bool
+        16-bit pixels become 8-bit.
+    """
+
+    format: str
+    dtype: str
+    tonemap: bool = False
+    flatten: bool = False
+    reduce: bool = False
+
+    def note(self, render: RenderOptions) -> str | None:
+        """One line saying what is done, or None when nothing is."""
+        bits = {"uint8": "8-bit", "uint16": "16-bit"}.get(self.dtype, self.dtype)
+        parts = []
+        if self.tonemap:
+            ev = f", --exposure {render.exposure:g}" if render.exposure else ""
+            parts.append(
+                f"tone-mapped HDR to {bits} sRGB (--tonemap {render.tonemap}{ev}; "
+                "choose with --tonemap)"
+            )
+        if self.reduce:
+            parts.append("reduced 16-bit samples to 8-bit")
+        if self.flatten:
+            parts.append(
+                f"flattened transparency onto {render.background or 'black'} "
+                "(choose with --background)"
+            )
+        return f"{self.format}: " + " and ".join(parts) if parts else None
+
+
+def plan_output(path: Path, dtype: Any, channels: int, render: RenderOptions) -> OutputPlan:
+    """How pixels of ``dtype`` with ``channels`` must change to be written to ``path``.
+
+    Float (HDR) to a format without float: tone-mapped to 16 bits where the
+    format has them (PNG), else 8; uint16 to JPEG/WebP: 8 bits; 2 or 4 channels
+    to JPEG, or with ``--background``: alpha flattened. Everything else is kept.
+
+    Examples
+    --------
+    >>> r = RenderOptions(None, False, False, None, "bilinear", 1, 95)
+    >>> plan_output(Path("a.jpg"), "float32", 4, r)
+    OutputPlan(format='JPEG', dtype='uint8', tonemap=True, flatten=True, reduce=False)
+    >>> plan_output(Path("a.png"), "float32", 3, r).dtype
+    'uint16'
+    >>> plan_output(Path("a.exr"), "float32", 4, r)
+    OutputPlan(format='EXR', dtype='float32', tonemap=False, flatten=False, reduce=False)
+    """
+    import numpy as np
+
+    from ..io import SUPPORTED_EXTENSIONS
+    from ..io.images import _FORMAT_DTYPES
+
+    dt = np.dtype(dtype)
+    fmt = SUPPORTED_EXTENSIONS.get(path.suffix.lower(), "")
+    if not fmt:
+        return OutputPlan(fmt, dt.name)
+    holds = _FORMAT_DTYPES[fmt]
+    flatten = channels in (2, 4) and (fmt == "JPEG" or render.background is not None)
+    if dt.kind == "f" and np.dtype(np.float32) not in holds:
+        target = np.uint16 if np.dtype(np.uint16) in holds else np.uint8
+        return OutputPlan(fmt, np.dtype(target).name, tonemap=True, flatten=flatten)
+    if dt == np.uint16 and dt not in holds:
+        return OutputPlan(fmt, "uint8", flatten=flatten, reduce=True)
+    return OutputPlan(fmt, dt.name, flatten=flatten)
+
+
+def convert_for_output(pixels: Any, path: Path, render: RenderOptions) -> Any:
+    """``pixels`` as the format of ``path`` can hold them (:func:`plan_output`),
+    printing a note of what was done (unless ``--quiet``)."""
+    import numpy as np
+
+    from ..io import convert_dtype
+    from ..io.tonemap import flatten_alpha, tonemap
+
+    if not isinstance(pixels, np.ndarray) or pixels.ndim != 3:
+        return pixels
+    plan = plan_output(path, pixels.dtype, pixels.shape[2], render)
+    if plan.tonemap:
+        pixels = tonemap(pixels, render.tonemap, render.exposure)
+    if plan.flatten:
+        pixels = flatten_alpha(pixels, render.background or "black")
+    if plan.tonemap or plan.reduce:
+        pixels = convert_dtype(pixels, np.dtype(plan.dtype))
+    note = plan.note(render)
+    if note:
+        render.note(note)
+    return pixels

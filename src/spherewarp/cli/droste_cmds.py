@@ -229,7 +229,7 @@ def droste(
     portal round the far point. --twist turns the copies into Escher's spiral.
     """
     from .. import droste as dr
-    from ._common import load_input, output_path, save_output
+    from ._common import convert_for_output, load_input, output_path, save_output
 
     frame = frame or None
     given = [name for name, v in (("--frame", frame), ("--mask", mask)) if v is not None]
@@ -301,6 +301,7 @@ def droste(
             interp=render.interp,
             supersample=render.supersample,
         )
+        pixels = convert_for_output(pixels, out, render)
         written = write_image(
             out,
             pixels,

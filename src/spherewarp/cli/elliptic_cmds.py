@@ -208,6 +208,7 @@ def peirce(input: Path, render: RenderOptions, inverse: bool, lon0: float) -> No
             lon0=lon0,
             interp=render.interp,
             supersample=render.supersample,
+            progress=render.progress(),
         )
         save_output(out, src, render, command="peirce")
         return
@@ -223,6 +224,7 @@ def peirce(input: Path, render: RenderOptions, inverse: bool, lon0: float) -> No
         interp=render.interp,
         supersample=render.supersample,
         force=render.force,
+        progress=render.progress(),
     )
     save_output(out, src, render, "peirce", gpano=False)
 
@@ -288,7 +290,7 @@ def torus(input: Path, render: RenderOptions, lattice: str, cells: str, mesh: Pa
     lat = lattice.lower()
     width = render.size[0] if render.size else None
     kw = {"interp": render.interp, "supersample": render.supersample, "force": render.force}
-    out = render_torus(src.pixels, lat, cells=cxy, width=width, **kw)
+    out = render_torus(src.pixels, lat, cells=cxy, width=width, progress=render.progress(), **kw)
     save_output(out, src, render, "torus", gpano=False)
     if mesh is not None:
         texture = render_torus_texture(src.pixels, lat, cells=cxy, **kw)

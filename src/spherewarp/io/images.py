@@ -440,10 +440,11 @@ def _check_size(p: Path, width: int, height: int, max_pixels: int) -> None:
     if width <= 0 or height <= 0:
         raise ImageFormatError(f"cannot read '{p}': header gives an empty image {width}x{height}")
     if width * height > max_pixels:
+        what = f"cannot read '{p}': image is {width}x{height} = {width * height} pixels, more than"
         raise ImageFormatError(
-            f"cannot read '{p}': image is {width}x{height} = {width * height} pixels, more than "
-            f"max_pixels={max_pixels} (possible decompression bomb); pass a larger max_pixels "
-            "if the file is trusted"
+            f"{what} max_pixels={max_pixels} (possible decompression bomb); pass a larger "
+            "max_pixels if the file is trusted",
+            cli=f"{what} the limit of {max_pixels} (possible decompression bomb)",
         )
 
 
@@ -1018,16 +1019,24 @@ def _check_format(p: Path, fmt: str, arr: np.ndarray) -> None:
     dt, (h, w, c) = arr.dtype, arr.shape
     if dt not in _FORMAT_DTYPES[fmt]:
         if fmt == "PNG":
-            hint = "write .exr or .tif to keep float32, or convert_dtype(pixels, np.uint16)"
+            keep, to = "write .exr or .tif to keep float32", "np.uint16"
         elif dt == np.uint16:
-            hint = "write .png or .tif to keep 16 bits, or convert_dtype(pixels, np.uint8)"
+            keep, to = "write .png or .tif to keep 16 bits", "np.uint8"
         else:
-            hint = "write .exr or .tif to keep float32, or convert_dtype(pixels, np.uint8)"
-        raise ImageFormatError(f"cannot write '{p}': {fmt} cannot store {dt} pixels; {hint}")
-    if fmt == "JPEG" and c in (2, 4):
+            keep, to = "write .exr or .tif to keep float32", "np.uint8"
+        what = f"cannot write '{p}': {fmt} cannot store {dt} pixels; {keep}"
         raise ImageFormatError(
+            f"{what}, or convert_dtype(pixels, {to})",
+            cli=what,
+        )
+    if fmt == "JPEG" and c in (2, 4):
+        what = (
             f"cannot write '{p}': JPEG has no alpha channel and the image has {c} channels; "
-            "write .png, .webp or .tif, or drop the alpha channel (pixels[..., :-1])"
+            "write .png, .webp or .tif"
+        )
+        raise ImageFormatError(
+            f"{what}, or drop the alpha channel (pixels[..., :-1])",
+            cli=f"{what}, or flatten it with --background COLOR",
         )
     limit = _MAX_SIDE.get(fmt)
     if limit is not None and max(h, w) > limit:
@@ -1101,7 +1110,10 @@ def _fsync_dir(path: Path) -> None:
 
 
 def _exists_error(p: Path) -> OutputExistsError:
-    return OutputExistsError(f"'{p}' exists; pass overwrite=True (CLI: --overwrite)")
+    return OutputExistsError(
+        f"'{p}' exists; pass overwrite=True to replace it",
+        cli=f"'{p}' exists; pass --overwrite to replace it",
+    )
 
 
 def _commit(tmp: Path, p: Path, overwrite: bool) -> None:

@@ -108,6 +108,9 @@ BICUBIC = 2
 #: max subsamples buffered at once in the anti-aliasing pass (>= 32 * 32)
 SUB_BATCH = 2048
 
+#: int64 slots between two workers' progress counters (64 bytes: one cache line each)
+PROGRESS_STRIDE = 8
+
 # Near-minimax polynomial of atan(a)/a in s = a^2 on [0, 1] (degree 18,
 # Chebyshev interpolation in 50-digit arithmetic): |error of atan| < 3e-16.
 _A0 = 0.9999999999999998
@@ -1865,7 +1868,7 @@ def render_spec(
     img, p64, tail, big, o32, dst, ho, wo, co, fast_u8, fast_f32, fimg,
     codes, params, ccos, csin, tabs, kx, ky,
     do_aa, aa_kx, aa_ky, tol, cap, uniform, jumps, rho, jmin, area,
-    interp, bg, is_int, maxval, full, th, tw, wk, nw,
+    interp, bg, is_int, maxval, full, th, tw, prog, wk, nw,
 ):  # fmt: skip
     """Render an equirectangular output through the stages of a map.
 
@@ -1883,7 +1886,10 @@ def render_spec(
     ``area`` (with ``do_aa``, ``uniform = 0``): every pixel is an area tap over
     its footprint, split into parts where an axis of the footprint is over about
     1.5 input pixels (:func:`_area_counts`; the taps: :func:`area_u8` in fixed
-    point for uint8, :func:`area_batch` otherwise).
+    point for uint8, :func:`area_batch` otherwise). ``prog``: int64 progress
+    counters, ``PROGRESS_STRIDE`` apart (a cache line each); worker ``wk`` adds
+    one to ``prog[wk * PROGRESS_STRIDE]`` per tile finished (no atomics: one
+    writer per slot), which the caller may read while the kernel runs.
     """
     hi = img[5]
     wi, c, obytes, ntx, ntiles, big_w, shift, lom, spill = _layout(img, dst, ho, wo, th, tw)
@@ -2065,6 +2071,7 @@ def render_spec(
                         acc, k, cover[k], nx[k] * ny[k], bg, dst, p0 + k, c, co,
                         is_int, maxval, full,
                     )  # fmt: skip
+        prog[wk * PROGRESS_STRIDE] += 1
 
 
 @njit(**_P)

@@ -324,19 +324,47 @@ def _pool(n: int) -> Any:
         return _POOL[0]
 
 
+#: seconds between two looks at the progress counters of a running kernel
+PROGRESS_INTERVAL = 0.1
+
+
 def _run(
-    kernel: Callable[..., Any], args: tuple[Any, ...], threads: int | None, items: int
+    kernel: Callable[..., Any],
+    args: tuple[Any, ...],
+    threads: int | None,
+    items: int,
+    poll: Callable[[], None] | None = None,
 ) -> None:
-    """Run ``kernel(*args, wk, nw)`` for ``nw`` workers on threads (the kernels drop the GIL)."""
+    """Run ``kernel(*args, wk, nw)`` for ``nw`` workers on threads (the kernels drop the GIL).
+
+    With ``poll``, every share runs on the pool and the calling thread calls
+    ``poll()`` every :data:`PROGRESS_INTERVAL` seconds until they are done
+    (and once more at the end).
+    """
+    from concurrent.futures import FIRST_EXCEPTION, wait
+
     nw = default_threads() if threads is None else int(threads)
     nw = max(1, min(nw, items))
-    if nw == 1:
-        kernel(*args, 0, 1)
-        return
-    futures = [_pool(nw - 1).submit(kernel, *args, wk, nw) for wk in range(1, nw)]
-    kernel(*args, 0, nw)
+    if poll is None:
+        if nw == 1:
+            kernel(*args, 0, 1)
+            return
+        futures = [_pool(nw - 1).submit(kernel, *args, wk, nw) for wk in range(1, nw)]
+        kernel(*args, 0, nw)
+    else:
+        futures = [_pool(nw).submit(kernel, *args, wk, nw) for wk in range(nw)]
+        try:
+            while wait(futures, PROGRESS_INTERVAL, FIRST_EXCEPTION).not_done:
+                if any(f.done() and f.exception() is not None for f in futures):
+                    break
+                poll()
+        except BaseException:  # poll raised (or Ctrl-C): no kernel may outlive the call
+            wait(futures)
+            raise
     for f in futures:
         f.result()
+    if poll is not None:
+        poll()
 
 
 def _native(a: NDArray) -> NDArray:
@@ -449,11 +477,14 @@ def render_spec(
     aa: tuple[str, int],
     background: NDArray[np.float32],
     threads: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> None:
     """Fill ``out`` (``(H, W, C or C+1)``, the input's dtype) with the pull-back of ``src``.
 
     ``aa`` is ``(mode, n)`` from :func:`~spherewarp.render.antialias.parse_antialias`.
     With one channel more in ``out`` than in ``src``, the last is alpha.
+    ``progress(done, total)``: called from this thread with the tiles finished
+    (:data:`TILE`) while the kernel runs, last with ``done == total``.
     """
     k = _kernels()
     src = _native(src)
@@ -494,7 +525,18 @@ def render_spec(
         INTERP_CODES[interp], np.asarray(background, np.float32), is_int, maxval, full,
         th, tw,
     )  # fmt: skip
-    _run(k.render_spec, args, threads, -(-h_out // th))
+    nw = default_threads() if threads is None else int(threads)
+    stride = k.PROGRESS_STRIDE
+    prog = np.zeros(max(1, nw) * stride, np.int64)
+    poll = None
+    if progress is not None:
+        total = -(-h_out // th) * -(-w_out // tw)
+
+        def poll() -> None:
+            progress(int(prog[::stride].sum()), total)
+
+        progress(0, total)
+    _run(k.render_spec, (*args, prog), threads, -(-h_out // th), poll)
 
 
 def source_coords(

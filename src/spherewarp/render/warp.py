@@ -27,7 +27,7 @@ rotation); see :mod:`spherewarp.render.antialias`.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -97,9 +97,10 @@ def check_equirect(image: NDArray, force: bool = False, name: str = "image") -> 
     """
     h, w = image.shape[:2]
     if w != 2 * h and not force:
+        what = f"{name}: expected an equirectangular image with width = 2 x height, got {w}x{h}"
         raise InvalidValueError(
-            f"{name}: expected an equirectangular image with width = 2 x height, got {w}x{h} "
-            "(force=True, or --force, treats it as equirectangular anyway)"
+            f"{what} (force=True treats it as equirectangular anyway)",
+            cli=f"{what} (--force treats it as equirectangular anyway)",
         )
 
 
@@ -133,6 +134,7 @@ def warp(
     force: bool = False,
     method: str = "auto",
     threads: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> NDArray:
     """Pull an equirectangular image back through a map of the sphere.
 
@@ -196,6 +198,14 @@ def warp(
         float64 NumPy only (slow; the yardstick of the tests).
     threads : int, optional
         Worker threads of the fast path (default: all cores).
+    progress : callable, optional
+        ``progress(done, total)``, called from the calling thread while the
+        image renders: first with ``done = 0``, then with non-decreasing
+        ``done`` (about every 0.1 s on the fast path, per band of rows on the
+        others), last with ``done == total`` when the image is complete. The
+        unit of work (tiles, rows) depends on the path: read ``done / total``
+        as the fraction done. An exception it raises ends the call (on the
+        fast path once the compiled workers have finished their share).
 
     Returns
     -------
@@ -209,6 +219,12 @@ def warp(
     >>> out = warp(img, Mobius.rotation((0, 90), 45))   # 45 degrees = 2 pixels
     >>> bool(np.array_equal(out, np.roll(img, -2, axis=1)))
     True
+    >>> seen = []
+    >>> def report(done, total):
+    ...     seen.append(done / total)
+    >>> _ = warp(img, Mobius.zoom((0, 0), 2), progress=report)
+    >>> seen[0], seen[-1], seen == sorted(seen)
+    (0.0, 1.0, True)
     """
     if not isinstance(inverse_map, SphereMap):
         raise InvalidTypeError(
@@ -239,6 +255,10 @@ def warp(
         isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1
     ):
         raise InvalidValueError(f"expected threads to be a positive integer, got {threads!r}")
+    if progress is not None and not callable(progress):
+        raise InvalidTypeError(
+            f"expected progress to be a callable (done, total), got {type(progress).__name__}"
+        )
     h_in, w_in, channels = images[0].shape
     if output_shape is None:
         output_shape = (h_in, w_in)
@@ -274,16 +294,23 @@ def warp(
     if method != "reference" and fast.available():
         if spec is not None:
             fast.render_spec(
-                images[0], spec, out, interp=interp, aa=aa, background=bg, threads=threads
-            )
+                images[0], spec, out, interp=interp, aa=aa, background=bg, threads=threads,
+                progress=progress,
+            )  # fmt: skip
             return out
-        _warp_by_samples(images, inverse_map, out, interp, aa, bg, "fast", threads)
+        _warp_by_samples(images, inverse_map, out, interp, aa, bg, "fast", threads, progress)
         return out
     if aa[0] in ("adaptive", "area"):
-        _warp_by_samples(images, inverse_map, out, interp, aa, bg, "reference", None)
+        _warp_by_samples(images, inverse_map, out, interp, aa, bg, "reference", None, progress)
     else:
-        _warp_reference(images, inverse_map, out, interp, aa[1], bg, add_alpha)
+        _warp_reference(images, inverse_map, out, interp, aa[1], bg, add_alpha, progress)
     return out
+
+
+def _rows_done(progress: Callable[[int, int], None] | None, done: int, total: int) -> None:
+    """Report ``done`` of ``total`` output rows (when there is a ``progress`` callback)."""
+    if progress is not None:
+        progress(done, total)
 
 
 def shrinks_somewhere(
@@ -333,6 +360,7 @@ def _warp_reference(
     n: int,
     bg: NDArray[np.float32],
     add_alpha: bool,
+    progress: Callable[[int, int], None] | None = None,
 ) -> None:
     """The float64 NumPy reference: ``n x n`` samples a pixel, any number of sheets."""
     h_out, w_out = out.shape[:2]
@@ -342,6 +370,7 @@ def _warp_reference(
     rows_per_tile = max(1, _TILE_PIXELS // (w_out * n * n))
     cols = np.arange(w_out, dtype=np.float64)
     for r0 in range(0, h_out, rows_per_tile):
+        _rows_done(progress, r0, h_out)
         r1 = min(h_out, r0 + rows_per_tile)
         rows = np.arange(r0, r1, dtype=np.float64)
         acc = np.zeros((r1 - r0, w_out, channels), np.float32)
@@ -375,6 +404,7 @@ def _warp_reference(
             info = np.iinfo(dtype)
             np.clip(np.rint(res), info.min, info.max, out=res)
         out[r0:r1] = res
+    _rows_done(progress, h_out, h_out)
 
 
 def _warp_by_samples(
@@ -386,6 +416,7 @@ def _warp_by_samples(
     bg: NDArray[np.float32],
     sampler: str,
     threads: int | None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> None:
     """Any map, any anti-aliasing: NumPy geometry, sample lists per pixel.
 
@@ -397,7 +428,7 @@ def _warp_by_samples(
     """
     mode, n = aa
     if mode == "area":  # compiled area taps sheet by sheet
-        _warp_area(images, inverse_map, out, bg, sampler, threads)
+        _warp_area(images, inverse_map, out, bg, sampler, threads, progress)
         return
     if len(images) > 1 and inverse_map.n_sheets > 1:
         sampler = "reference"
@@ -409,6 +440,7 @@ def _warp_by_samples(
     rho_in = min(np.pi / h_in, 2 * np.pi / w_in)
     band = max(1, (1 << 16) // w_out)
     for r0 in range(0, h_out, band):
+        _rows_done(progress, r0, h_out)
         r1 = min(h_out, r0 + band)
         # in "adaptive", the rows above and below the band too: neighbours, to find jumps
         px, lonlat, zw, pb, a = _pull_rows(inverse_map, r0, r1, w_out, h_out, mode == "adaptive")
@@ -431,6 +463,7 @@ def _warp_by_samples(
             images, inverse_map, px[inner], nx, ny, _rows_of(pb, inner), (h_out, w_out), flat,
             co, r0 * w_out, interp, bg, sampler, threads,
         )  # fmt: skip
+    _rows_done(progress, h_out, h_out)
 
 
 def _pull_rows(
@@ -535,6 +568,7 @@ def _warp_area(
     bg: NDArray[np.float32],
     sampler: str,
     threads: int | None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> None:
     """``antialias="area"`` on the NumPy side: any map, any number of sheets.
 
@@ -551,6 +585,7 @@ def _warp_area(
     band = max(1, (1 << 16) // w_out)
     js = _aa.JUMP_SAMPLES
     for r0 in range(0, h_out, band):
+        _rows_done(progress, r0, h_out)
         r1 = min(h_out, r0 + band)
         m = r1 - r0
         npx = m * w_out
@@ -585,6 +620,7 @@ def _warp_area(
             images, inverse_map, px[inner], nx, ny, centre, (h_out, w_out), flat, co,
             r0 * w_out, "bilinear", bg, sampler, threads, (bx, by),
         )  # fmt: skip
+    _rows_done(progress, h_out, h_out)
 
 
 def _sample_pixels(

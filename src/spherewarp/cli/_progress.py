@@ -1,0 +1,119 @@
+"""The progress bar of the command line.
+
+:class:`ProgressBar` is a ``progress(done, total)`` callback for
+:func:`spherewarp.render.warp` that draws a bar on stderr with ``tqdm``, and
+only where someone can see it: when stderr is a terminal, ``--quiet`` was not
+given, and the render has lasted more than :data:`DELAY` seconds (a quick
+render shows nothing). Each render (each call sequence from ``done = 0`` to
+``done == total``) gets its own bar, so a command that renders several images
+(Droste ``--frames``) shows one at a time; the bar is cleared when it is done,
+leaving the ``wrote ...`` line alone.
+
+``tqdm`` is imported only when a bar is drawn, so commands start fast.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from typing import Any, TextIO
+
+__all__ = ["DELAY", "ProgressBar", "close_all"]
+
+
+#: seconds a render runs before its bar appears (``SPHEREWARP_PROGRESS_DELAY`` in the
+#: environment overrides it, for tests)
+def _delay() -> float:
+    try:
+        return max(0.0, float(os.environ.get("SPHEREWARP_PROGRESS_DELAY", "")))
+    except ValueError:
+        return 1.0
+
+
+DELAY = _delay()
+
+_OPEN: list[ProgressBar] = []
+
+
+class ProgressBar:
+    """A ``progress(done, total)`` callback drawing a delayed bar on a terminal.
+
+    Parameters
+    ----------
+    desc : str
+        The label in front of the bar.
+    enabled : bool, optional
+        Draw at all; default: when ``stream`` is a terminal.
+    stream : file, optional
+        Where to draw (default ``sys.stderr``).
+    delay : float
+        Seconds from a render's start before its bar appears.
+
+    Examples
+    --------
+    >>> import io
+    >>> bar = ProgressBar("rendering", stream=io.StringIO())   # not a terminal: silent
+    >>> bar.enabled
+    False
+    >>> bar(0, 10); bar(10, 10)
+    """
+
+    def __init__(
+        self,
+        desc: str = "rendering",
+        *,
+        enabled: bool | None = None,
+        stream: TextIO | None = None,
+        delay: float | None = None,
+    ) -> None:
+        self.stream = sys.stderr if stream is None else stream
+        if enabled is None:
+            isatty = getattr(self.stream, "isatty", None)
+            enabled = bool(isatty and isatty())
+        self.enabled = enabled
+        self.desc = desc
+        self.delay = DELAY if delay is None else delay
+        self._bar: Any = None
+        self._start = 0.0
+        self._done = 0
+
+    def __call__(self, done: int, total: int) -> None:
+        if not self.enabled:
+            return
+        now = time.monotonic()
+        if self._start == 0.0 or done < self._done:  # a new render
+            self.close()
+            self._start = now
+        self._done = done
+        if self._bar is None and now - self._start >= self.delay and done < total:
+            from tqdm import tqdm
+
+            self._bar = tqdm(
+                total=total,
+                desc=self.desc,
+                file=self.stream,
+                leave=False,
+                dynamic_ncols=True,
+                bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}<{remaining}",
+            )
+            _OPEN.append(self)
+        if self._bar is not None:
+            self._bar.update(max(0, done - self._bar.n))
+        if done >= total:
+            self.close()
+            self._start = 0.0
+
+    def close(self) -> None:
+        """Clear the bar if one is drawn."""
+        bar, self._bar = self._bar, None
+        if bar is not None:
+            bar.close()
+        if self in _OPEN:
+            _OPEN.remove(self)
+
+
+def close_all() -> None:
+    """Clear every bar still drawn (an error or an interrupt mid-render)."""
+    for bar in list(_OPEN):
+        bar.close()

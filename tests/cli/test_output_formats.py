@@ -1,0 +1,135 @@
+"""Output formats from the command line: HDR and alpha are converted for formats
+that cannot hold them (tone mapping, flattening), with one note line."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from _cli import fails, ok, run
+
+from spherewarp.demo import sample_path
+from spherewarp.io import GPano, read_image, write_image
+
+EXR = Path(sample_path()).with_name("interior.exr")
+
+
+@pytest.fixture
+def cropped(tmp_path: Path) -> Path:
+    """A GPano-cropped JPEG: the middle half of the rows, three quarters of the columns."""
+    src = read_image(sample_path()).pixels[..., :3]
+    h, w = src.shape[:2]
+    crop = np.ascontiguousarray(src[h // 4 : 3 * h // 4, : 3 * w // 4])
+    g = GPano(
+        full_width=w,
+        full_height=h,
+        cropped_width=crop.shape[1],
+        cropped_height=crop.shape[0],
+        cropped_left=0,
+        cropped_top=h // 4,
+    )
+    return write_image(tmp_path / "crop.jpg", crop, gpano=g)
+
+
+def _note(err: str) -> str:
+    lines = err.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("spherewarp: note: "), err
+    return lines[0]
+
+
+def test_hdr_exr_to_jpeg_in_one_command(tmp_path: Path) -> None:
+    out = tmp_path / "room.jpg"
+    code, stdout, err = run(None, "rotate", EXR, "--yaw", "30", "-o", out)
+    assert code == 0, err
+    assert stdout.strip() == f"wrote {out}"
+    note = _note(err)
+    assert "tone-mapped HDR to 8-bit sRGB" in note and "--tonemap aces" in note
+    px = read_image(out).pixels
+    assert px.dtype == np.uint8 and px.shape == (512, 1024, 3)
+    # a photo: neither black nor washed out, with contrast and some true whites (windows)
+    assert 80 < px.mean() < 190 and px.std() > 40
+    assert (px.min(axis=2) > 250).mean() > 0.001 and (px.max(axis=2) < 40).mean() > 0.01
+
+
+@pytest.mark.parametrize("method", ["aces", "reinhard", "clip"])
+def test_hdr_to_png_is_16_bit_and_tonemaps_differ(tmp_path: Path, method: str) -> None:
+    out = tmp_path / f"{method}.png"
+    code, _, err = run(None, "rotate", EXR, "--yaw", "0", "--tonemap", method, "-o", out)
+    assert code == 0, err
+    assert "16-bit" in _note(err)
+    px = read_image(out).pixels
+    assert px.dtype == np.uint16
+    # reinhard never clips (so the windows are not white); clip cuts them to white
+    white = (px.min(axis=2) == 65535).mean()
+    if method == "reinhard":
+        assert white == 0.0
+    elif method == "clip":
+        assert white > 0.005
+
+
+def test_exposure_brightens(tmp_path: Path) -> None:
+    a, b = tmp_path / "a.jpg", tmp_path / "b.jpg"
+    ok(None, "rotate", EXR, "--yaw", "0", "-o", a, "-q")
+    ok(None, "rotate", EXR, "--yaw", "0", "-o", b, "-q", "--exposure", "1")
+    assert read_image(b).pixels.mean() > read_image(a).pixels.mean() + 10
+
+
+@pytest.mark.parametrize("ext", [".exr", ".tif"])
+def test_float_formats_keep_hdr_without_a_note(tmp_path: Path, ext: str) -> None:
+    out = tmp_path / f"room{ext}"
+    code, _, err = run(None, "rotate", EXR, "--yaw", "0", "-o", out)
+    assert code == 0 and err == "", err
+    px = read_image(out).pixels
+    assert px.dtype == np.float32 and px.max() > 100
+
+
+def test_cropped_panorama_to_jpeg_in_one_command(tmp_path: Path, cropped: Path) -> None:
+    out = tmp_path / "out.jpg"
+    code, _, err = run(None, "rotate", cropped, "--yaw", "20", "-o", out)
+    assert code == 0, err
+    assert "flattened transparency onto black" in _note(err)
+    px = read_image(out).pixels
+    assert px.shape == (512, 1024, 3)
+    assert px[:100].max() < 16  # above the crop: the background, black
+    white = tmp_path / "white.jpg"
+    code, _, err = run(None, "rotate", cropped, "--yaw", "20", "-o", white, "--background", "#fff")
+    assert code == 0 and "onto #fff" in err, err
+    assert read_image(white).pixels[:100].min() > 240
+
+
+def test_cropped_panorama_to_png_keeps_alpha_unless_background(tmp_path: Path, cropped: Path):
+    out = tmp_path / "out.png"
+    code, _, err = run(None, "rotate", cropped, "--yaw", "20", "-o", out)
+    assert code == 0 and err == "", err
+    assert read_image(out).pixels.shape[2] == 4
+    flat = tmp_path / "flat.png"
+    ok(None, "rotate", cropped, "--yaw", "20", "-o", flat, "--background", "grey", "-q")
+    assert read_image(flat).pixels.shape[2] == 3
+
+
+def test_16_bit_to_jpeg_is_reduced(tmp_path: Path) -> None:
+    src = write_image(tmp_path / "in.png", np.full((8, 16, 3), 40000, np.uint16))
+    out = tmp_path / "out.jpg"
+    code, _, err = run(None, "rotate", src, "--yaw", "10", "-o", out)
+    assert code == 0 and "reduced 16-bit samples to 8-bit" in _note(err), err
+    assert abs(int(read_image(out).pixels.mean()) - 40000 // 257) <= 2
+
+
+def test_quiet_silences_the_note(tmp_path: Path) -> None:
+    code, out, err = run(None, "rotate", EXR, "--yaw", "0", "-o", tmp_path / "q.jpg", "--quiet")
+    assert code == 0 and err == "" and out.startswith("wrote "), err
+
+
+def test_bad_tonemap_and_background_are_one_line_errors(tmp_path: Path) -> None:
+    err = fails(None, "rotate", EXR, "--yaw", "0", "-o", tmp_path / "x.jpg", "--tonemap", "x")
+    assert "--tonemap" in err
+    err = fails(None, "rotate", EXR, "--yaw", "0", "-o", tmp_path / "x.jpg", "--background", "z")
+    assert "--background" in err and "colour" in err
+    assert not (tmp_path / "x.jpg").exists()
+
+
+def test_help_tells_the_conversion_policy() -> None:
+    text = " ".join(ok(None, "rotate", "--help").split())
+    for words in ("--tonemap", "aces", "--exposure", "--background", "--quiet", "16-bit"):
+        assert words in text
