@@ -210,6 +210,7 @@ class RenderOptions:
     quality: int
     antialias: str | int = "auto"
     threads: int | None = None
+    max_pixels: int | None = None
 
     def warp_kwargs(self, pixels: Any) -> dict[str, Any]:
         """Keyword arguments for :func:`spherewarp.warp`."""
@@ -232,10 +233,20 @@ def input_argument(func: Callable) -> Callable:
     )(func)
 
 
+max_pixels_option = click.option(
+    "--max-pixels",
+    type=click.IntRange(1, 2**62),
+    metavar="N",
+    help="Refuse inputs of more pixels than N, counting every EXR part and the canvas a "
+    "GPano XMP declares (default: $SPHEREWARP_MAX_PIXELS, else 268435456 = 2**28).",
+)
+"""The ``--max-pixels`` option: the pixel limit of :func:`spherewarp.io.pixel_limit`."""
+
+
 def render_options(func: Callable) -> Callable:
     """``-o``, ``--overwrite``, ``--force``, ``--size``, ``--interp``, ``--supersample``,
     ``--antialias``, ``--threads``,
-    ``--quality``; the command receives them as one ``render`` argument."""
+    ``--quality``, ``--max-pixels``; the command receives them as one ``render`` argument."""
     options = [
         click.option(
             "-o",
@@ -285,6 +296,7 @@ def render_options(func: Callable) -> Callable:
             show_default=True,
             help="JPEG/WebP quality.",
         ),
+        max_pixels_option,
     ]
 
     def wrapper(**kwargs: Any) -> Any:
@@ -298,6 +310,7 @@ def render_options(func: Callable) -> Callable:
             quality=kwargs.pop("quality"),
             antialias=kwargs.pop("antialias"),
             threads=kwargs.pop("threads"),
+            max_pixels=kwargs.pop("max_pixels"),
         )
         return func(render=render, **kwargs)
 
@@ -315,7 +328,7 @@ def load_input(path: Path, render: RenderOptions | None = None) -> Any:
     from ..io import read_image
     from ..render.warp import check_equirect
 
-    data = read_image(path)
+    data = read_image(path, max_pixels=render.max_pixels if render else None)
     check_equirect(data.pixels, force=bool(render and render.force), name=str(path))
     return data
 

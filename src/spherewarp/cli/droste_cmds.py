@@ -253,7 +253,9 @@ def droste(
     elif mask is not None:
         from ..io import read_image
 
-        hole = dr.hole_from_mask(read_image(mask).pixels, center, far=far)
+        hole = dr.hole_from_mask(
+            read_image(mask, max_pixels=render.max_pixels).pixels, center, far=far
+        )
     else:
         hole = dr.hole_from_radius(center, inner_radius, far=far)
     d = dr.droste_map(

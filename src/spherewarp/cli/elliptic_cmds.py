@@ -194,7 +194,7 @@ def peirce(input: Path, render: RenderOptions, inverse: bool, lon0: float) -> No
     if inverse:
         from ..io import read_image
 
-        src = read_image(input)
+        src = read_image(input, max_pixels=render.max_pixels)
         h, w = src.pixels.shape[:2]
         if h != w:
             raise InvalidValueError(

@@ -8,7 +8,7 @@ from typing import Any
 
 import click
 
-from ._common import SIZE, example, input_argument
+from ._common import SIZE, example, input_argument, max_pixels_option
 
 __all__ = ["testpattern", "info", "demo"]
 
@@ -205,9 +205,10 @@ def _format_info(info: dict[str, Any]) -> str:
 @click.command(epilog=example("spherewarp info room.jpg", "spherewarp info room.exr --json"))
 @input_argument
 @click.option("--json", "as_json", is_flag=True, help="Print the information as JSON.")
-def info(input: Path, as_json: bool) -> None:
+@max_pixels_option
+def info(input: Path, as_json: bool, max_pixels: int | None) -> None:
     """Describe an image: size, sample type, channels, 360° metadata, colour profile."""
-    data = image_info(input)
+    data = image_info(input, max_pixels)
     click.echo(json.dumps(data, indent=2) if as_json else _format_info(data))
 
 
