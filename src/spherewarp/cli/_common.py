@@ -114,8 +114,13 @@ class SizeType(click.ParamType):
                 h = w // 2
         except ValueError:
             self.fail(f"expected a size WxH like 2048x1024, got {value!r}", param, ctx)
-        if not (1 <= w <= 65536 and 1 <= h <= 32768):
-            self.fail(f"expected a size between 1x1 and 65536x32768, got {value!r}", param, ctx)
+        if not (1 <= w <= 65536 and 1 <= h <= 32768 and w * h <= 2**30):
+            self.fail(
+                "expected a size between 1x1 and 65536x32768 of at most 2**30 pixels "
+                f"(e.g. 46340x23170), got {value!r}",
+                param,
+                ctx,
+            )
         return w, h
 
 
@@ -243,6 +248,19 @@ max_pixels_option = click.option(
 """The ``--max-pixels`` option: the pixel limit of :func:`spherewarp.io.pixel_limit`."""
 
 
+def _check_size_limit(size: tuple[int, int] | None, max_pixels: int | None) -> None:
+    """An output larger than the pixel limit could not be read back: refuse it up front."""
+    from ..io.images import pixel_limit
+
+    limit = pixel_limit(max_pixels)
+    if size is not None and size[0] * size[1] > limit:
+        raise click.BadParameter(
+            f"{size[0]}x{size[1]} = {size[0] * size[1]} pixels is more than the pixel limit "
+            f"{limit}; choose a smaller --size or raise --max-pixels",
+            param_hint="--size",
+        )
+
+
 def render_options(func: Callable) -> Callable:
     """``-o``, ``--overwrite``, ``--force``, ``--size``, ``--interp``, ``--supersample``,
     ``--antialias``, ``--threads``,
@@ -300,6 +318,7 @@ def render_options(func: Callable) -> Callable:
     ]
 
     def wrapper(**kwargs: Any) -> Any:
+        _check_size_limit(kwargs["size"], kwargs["max_pixels"])
         render = RenderOptions(
             output=kwargs.pop("output"),
             overwrite=kwargs.pop("overwrite"),

@@ -1474,7 +1474,8 @@ def write_image(
         ) from exc
     try:
         try:
-            _WRITERS[fmt](tmp, arr, meta)
+            with _quiet_fds():  # C encoders' own messages: the error says what failed
+                _WRITERS[fmt](tmp, arr, meta)
             _fsync(tmp)
             _commit(tmp, p, overwrite)
         except SpherewarpError:
