@@ -130,6 +130,7 @@ _FORMAT_DTYPES = {
     "EXR": _DTYPES,
 }
 _MAX_SIDE = {"JPEG": 65535, "WEBP": 16383}
+_JPEG_MAX_EXIF = 65533  # an APP1 segment's payload (Pillow's MAX_BYTES_IN_MARKER)
 _EXIF_HEADER = b"Exif\x00\x00"
 _PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 _XMP_JPEG_HEADER = b"http://ns.adobe.com/xap/1.0/\x00"
@@ -1442,6 +1443,13 @@ def write_image(
         raise InvalidTypeError(f"overwrite must be a bool, got {type(overwrite).__name__}")
     icc = _bytes_arg(icc_profile, "icc_profile")
     exif_blob = _exif_with_header(_bytes_arg(exif, "exif"))
+    if fmt == "JPEG" and exif_blob and len(exif_blob) > _JPEG_MAX_EXIF:
+        warnings.warn(
+            f"{p}: EXIF of {len(exif_blob)} bytes does not fit a JPEG APP1 segment "
+            f"({_JPEG_MAX_EXIF} bytes at most); dropped",
+            stacklevel=2,
+        )
+        exif_blob = None
     h, w = arr.shape[:2]
     g = _gpano_arg(gpano, h, w)
     _check_format(p, fmt, arr)

@@ -252,9 +252,11 @@ def _encoding_of(data: bytes) -> tuple[str, int]:
     if declared:
         name = declared.group(1).decode("ascii")
         try:
-            return codecs.lookup(name).name, 0
+            codec = codecs.lookup(name).name
         except LookupError:
             raise InvalidValueError(f"XMP packet declares an unknown encoding {name!r}") from None
+        # The declaration was read as ASCII, so the bytes are not UTF-16/32 whatever it says.
+        return ("utf-8" if codec.startswith(("utf-16", "utf-32")) else codec), 0
     return "utf-8", 0
 
 
