@@ -6,8 +6,11 @@ Seeded, a few hundred cases, a few seconds. Most cases run in one child process
 machine; it reports its cases and its peak resident memory
 (``resource.getrusage``) as JSON. Every case must return a result or raise a
 :class:`~spherewarp.errors.SpherewarpError` (never another exception), within
-a few seconds. A handful of real command lines then check the one-line rule
-(one ``spherewarp: error:`` line on stderr, nothing from the codec libraries).
+a few seconds. The same child then runs ``spherewarp info`` (``cli.main``)
+in-process on every image case with fds 1 and 2 captured: one
+``spherewarp: error:`` line and nothing on stdout, or a report and
+``spherewarp: warning:`` lines only, never a codec library's own output. A
+handful of real command lines (fresh processes) check the same from outside.
 
 The cases: truncations and byte mutations of small files in every format
 (PNG 8/16-bit, JPEG, TIFF 8/16/float, WebP, EXR), header "bombs" declaring
@@ -234,6 +237,31 @@ def _endless_writer(fifo: Path, stop: threading.Event) -> None:
         pass
 
 
+def _run_main(main, argv: list[str]) -> tuple[int | None, str, str]:
+    """Run the CLI's main() in-process with fds 1 and 2 captured."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    saved = os.dup(1), os.dup(2)
+    with tempfile.TemporaryFile() as fo, tempfile.TemporaryFile() as fe:
+        os.dup2(fo.fileno(), 1)
+        os.dup2(fe.fileno(), 2)
+        code: int | None = 0
+        try:
+            main(argv)
+        except SystemExit as exc:
+            code = exc.code if isinstance(exc.code, int) else 1
+        finally:
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os.dup2(saved[0], 1)
+            os.dup2(saved[1], 2)
+            os.close(saved[0])
+            os.close(saved[1])
+        fo.seek(0)
+        fe.seek(0)
+        return code, fo.read().decode("utf-8", "replace"), fe.read().decode("utf-8", "replace")
+
+
 def _child_main() -> None:
     """Run every in-process case; print one JSON report."""
     import resource
@@ -333,6 +361,22 @@ def _child_main() -> None:
     stop.set()
     with open(os.open(busy, os.O_RDONLY | os.O_NONBLOCK), "rb") as fh:  # let the writer out
         fh.read(1 << 20)
+
+    # The command line's own output for every image case, in-process (a fresh process
+    # each would take minutes): one error line, or a report and warning lines only.
+    from spherewarp.cli import main
+
+    warnings.simplefilter("default")
+    for name, path in image_cases:
+        report["cases"] += 1
+        code, out, err = _run_main(main, ["info", str(path), "--max-pixels", str(MAX_PIXELS)])
+        lines = err.splitlines()
+        if code == 2:
+            ok = len(lines) == 1 and lines[0].startswith("spherewarp: error: ") and not out
+        else:
+            ok = code == 0 and all(x.startswith("spherewarp: warning: ") for x in lines)
+        if not ok:
+            report["bad"].append([f"cli info {name}", f"exit {code}: {out[-300:]!r} {err!r}"])
 
     rss1 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     report["rss_growth_mb"] = (rss1 - rss0) / 1024
