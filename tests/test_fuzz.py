@@ -62,7 +62,6 @@ def _xmp(width: str = "64", height: str = "32", *, dtd: str = "", decl: str = ""
 
 def _base_files(d: Path) -> dict[str, bytes]:
     import numpy as np
-    import OpenEXR
 
     from spherewarp.io import write_image
 
@@ -82,8 +81,18 @@ def _base_files(d: Path) -> dict[str, bytes]:
     for name, px in specs:
         out[name] = write_image(d / name, px, overwrite=True).read_bytes()
     # a multi-part EXR: part 0 is small, the others add up past the limit
+    sizes = [(32, 64), (1024, 2048), (1024, 2048)]
+    out["multi.exr"] = write_multipart_exr(d / "multi.exr", sizes).read_bytes()
+    return out
+
+
+def write_multipart_exr(path: Path, sizes: list[tuple[int, int]]) -> Path:
+    """An RGB OpenEXR file with one zero part of each (height, width) in ``sizes``."""
+    import numpy as np
+    import OpenEXR
+
     parts = []
-    for k, (h, w) in enumerate([(32, 64), (1024, 2048), (1024, 2048)]):
+    for k, (h, w) in enumerate(sizes):
         header = {
             "compression": OpenEXR.ZIP_COMPRESSION,
             "type": OpenEXR.scanlineimage,
@@ -92,9 +101,8 @@ def _base_files(d: Path) -> dict[str, bytes]:
         }
         plane = np.zeros((h, w), np.float32)
         parts.append(OpenEXR.Part(header, {"R": plane, "G": plane, "B": plane}, f"p{k}"))
-    OpenEXR.File(parts).write(str(d / "multi.exr"))
-    out["multi.exr"] = (d / "multi.exr").read_bytes()
-    return out
+    OpenEXR.File(parts).write(str(path))
+    return path
 
 
 def _png_chunk(ctype: bytes, payload: bytes) -> bytes:
@@ -120,13 +128,13 @@ def _header_bombs(base: dict[str, bytes]) -> dict[str, bytes]:
     return bombs
 
 
-def _jpeg_with_xmp(packet: bytes) -> bytes:
+def jpeg_with_xmp(packet: bytes, shape: tuple[int, int] = (32, 64)) -> bytes:
+    """A black JPEG of ``shape`` (height, width) carrying the XMP ``packet`` as given."""
     import numpy as np
     from PIL import Image
 
     buf = io.BytesIO()
-    im = Image.fromarray(np.zeros((32, 64, 3), np.uint8))
-    im.save(buf, "JPEG", xmp=packet)
+    Image.fromarray(np.zeros((*shape, 3), np.uint8)).save(buf, "JPEG", xmp=packet)
     return buf.getvalue()
 
 
@@ -216,9 +224,9 @@ def _image_cases(d: Path, rng: random.Random) -> list[tuple[str, Path]]:
             files[f"mut{k}-{name}"] = bytes(buf)
     files.update(_header_bombs(base))
     for name, packet in _xmp_packets().items():
-        files[f"xmp-{name}.jpg"] = _jpeg_with_xmp(packet)
+        files[f"xmp-{name}.jpg"] = jpeg_with_xmp(packet)
     # a 64 x 32 JPEG that declares a 30000 x 15000 panorama around it
-    files["canvas.jpg"] = _jpeg_with_xmp(_xmp("30000", "15000").encode())
+    files["canvas.jpg"] = jpeg_with_xmp(_xmp("30000", "15000").encode())
     cases = []
     for name, data in files.items():
         p = d / "cases" / name
@@ -228,7 +236,8 @@ def _image_cases(d: Path, rng: random.Random) -> list[tuple[str, Path]]:
     return cases
 
 
-def _endless_writer(fifo: Path, stop: threading.Event) -> None:
+def endless_writer(fifo: Path, stop: threading.Event) -> None:
+    """Write zeros into ``fifo`` until ``stop`` is set or the reader goes."""
     try:
         with open(fifo, "wb") as fh:
             while not stop.is_set():
@@ -355,7 +364,7 @@ def _child_main() -> None:
     busy = tmp / "busy.fifo"
     os.mkfifo(busy)
     stop = threading.Event()
-    writer = threading.Thread(target=_endless_writer, args=(busy, stop), daemon=True)
+    writer = threading.Thread(target=endless_writer, args=(busy, stop), daemon=True)
     writer.start()
     case("fifo with endless writer", lambda: read_image(busy), refused)
     stop.set()
@@ -426,12 +435,12 @@ def _hostile_files(d: Path) -> dict[str, Path]:
         out[f"mut-{name}"] = bytes(buf)
     out["multi.exr"] = base["multi.exr"]
     out["good.png"] = base["p8.png"]
-    out["canvas.jpg"] = _jpeg_with_xmp(_xmp("30000", "15000").encode())
-    out["entity16.jpg"] = _jpeg_with_xmp(
+    out["canvas.jpg"] = jpeg_with_xmp(_xmp("30000", "15000").encode())
+    out["entity16.jpg"] = jpeg_with_xmp(
         ('<?xml version="1.0" encoding="UTF-16"?><!DOCTYPE x [<!ENTITY fw "512">]>'
          + _xmp("&fw;")).encode("utf-16-be")
     )  # fmt: skip
-    out["inf.jpg"] = _jpeg_with_xmp(_xmp("inf").encode())
+    out["inf.jpg"] = jpeg_with_xmp(_xmp("inf").encode())
     paths = {}
     for name, data in out.items():
         paths[name] = d / name

@@ -12,7 +12,6 @@ import threading
 import warnings
 
 import numpy as np
-import OpenEXR
 import pytest
 from PIL import Image
 
@@ -20,6 +19,7 @@ from spherewarp.errors import ImageFormatError, InvalidTypeError, InvalidValueEr
 from spherewarp.io import DEFAULT_MAX_PIXELS, GPano, parse_gpano, read_image, write_image
 from spherewarp.io.images import pixel_limit
 from spherewarp.io.xmp import gpano_xmp
+from test_fuzz import endless_writer, jpeg_with_xmp, write_multipart_exr  # tests/ is on sys.path
 
 # -- the pixel limit -----------------------------------------------------------------------
 
@@ -63,23 +63,8 @@ def test_webp_is_not_held_to_pillows_own_limit(tmp_path, monkeypatch):
     assert Image.MAX_IMAGE_PIXELS == 10  # restored
 
 
-def _multipart_exr(path, sizes):
-    parts = []
-    for k, (h, w) in enumerate(sizes):
-        header = {
-            "compression": OpenEXR.ZIP_COMPRESSION,
-            "type": OpenEXR.scanlineimage,
-            "dataWindow": ((0, 0), (w - 1, h - 1)),
-            "displayWindow": ((0, 0), (63, 31)),
-        }
-        plane = np.zeros((h, w), np.float32)
-        parts.append(OpenEXR.Part(header, {"R": plane, "G": plane, "B": plane}, f"p{k}"))
-    OpenEXR.File(parts).write(str(path))
-    return path
-
-
 def test_multipart_exr_counts_every_part(tmp_path):
-    path = _multipart_exr(tmp_path / "m.exr", [(32, 64), (256, 512), (256, 512)])
+    path = write_multipart_exr(tmp_path / "m.exr", [(32, 64), (256, 512), (256, 512)])
     with pytest.raises(ImageFormatError, match="part 2 of 3"):
         read_image(path, max_pixels=200_000)
     img = read_image(path, max_pixels=300_000)  # all parts fit: part 0 is the image
@@ -87,7 +72,7 @@ def test_multipart_exr_counts_every_part(tmp_path):
 
 
 def _jpeg_with_xmp(path, xmp: bytes, shape=(128, 256)):
-    Image.fromarray(np.zeros((*shape, 3), np.uint8)).save(path, "JPEG", xmp=xmp)
+    path.write_bytes(jpeg_with_xmp(xmp, shape))
     return path
 
 
@@ -124,16 +109,7 @@ def test_fifos_are_refused_without_hanging(tmp_path):
     busy = tmp_path / "busy"
     os.mkfifo(busy)
     stop = threading.Event()
-
-    def writer():
-        try:
-            with open(busy, "wb") as fh:
-                while not stop.is_set():
-                    fh.write(b"\0" * 65536)
-        except OSError:
-            pass
-
-    t = threading.Thread(target=writer, daemon=True)
+    t = threading.Thread(target=endless_writer, args=(busy, stop), daemon=True)
     t.start()
     with pytest.raises(ImageFormatError, match="not a regular file"):
         read_image(busy)
