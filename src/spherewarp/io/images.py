@@ -805,8 +805,7 @@ def _read_exr(p: Path, max_pixels: int) -> tuple:
         checked = bool(head.parts)
         if checked:
             _exr_check_parts(p, head.parts, max_pixels)
-        with _quiet_fds():
-            f = OpenEXR.File(str(p), separate_channels=True)
+        f = OpenEXR.File(str(p), separate_channels=True)
         part = f.parts[0]
         channels = part.channels
         header = part.header
