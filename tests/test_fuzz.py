@@ -121,10 +121,9 @@ def _header_bombs(base: dict[str, bytes]) -> dict[str, bytes]:
     jpg[sof + 5 : sof + 9] = struct.pack(">HH", 60_000, 60_000)
     bombs["bomb.jpg"] = bytes(jpg)
     webp = bytearray(base["w.webp"])
-    if webp[12:16] == b"VP8L":  # 16384 x 16384: at Pillow's limit, far over ours
-        bits = (16383) | (16383 << 14) | (struct.unpack("<I", webp[21:25])[0] & ~((1 << 28) - 1))
-        webp[21:25] = struct.pack("<I", bits & 0xFFFFFFFF)
-        bombs["bomb.webp"] = bytes(webp)
+    assert webp[12:16] == b"VP8X"  # what write_image writes (it carries the XMP)
+    webp[24:30] = b"\xff" * 6  # a 16777216 x 16777216 canvas
+    bombs["bomb.webp"] = bytes(webp)
     return bombs
 
 

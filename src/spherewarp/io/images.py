@@ -1002,9 +1002,9 @@ def read_image(
     data = _read_file(p)
     fmt = _sniff(data[:16])
     latlong = False
-    if fmt is None:
-        raise _unidentified(p, data)
     with _quiet_decoder(p):
+        if fmt is None:
+            raise _unidentified(p, data)
         if fmt == "TIFF":
             arr, icc, exif, xmp = _read_tiff(p, data, max_pixels)
         elif fmt == "EXR":
