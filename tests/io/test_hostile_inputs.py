@@ -131,6 +131,8 @@ def test_xmp_is_read_in_every_encoding(encoding):
     data = (prefix + _PACKET).encode(encoding)
     assert parse_gpano(data) == GPano.full_sphere(64, 32)
     assert parse_gpano(data + b"\0\0\0\0") == GPano.full_sphere(64, 32)  # NUL padding
+    if encoding in ("utf-16-be", "utf-16-le"):  # no BOM, blanks before the first "<"
+        assert parse_gpano(("\n  " + _PACKET).encode(encoding)) == GPano.full_sphere(64, 32)
 
 
 @pytest.mark.parametrize("encoding", ["utf-8", "utf-16-be", "utf-16-le", "utf-16"])

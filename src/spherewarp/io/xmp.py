@@ -248,6 +248,13 @@ def _encoding_of(data: bytes) -> tuple[str, int]:
     for first, name in _FIRST_BYTES:
         if data.startswith(first):
             return name, 0
+    head = data[:64]
+    if len(head) >= 4 and b"\x00" in head:  # UTF-16 after leading blanks: NULs in every pair
+        even, odd = head[0::2].count(0), head[1::2].count(0)
+        if even >= 2 * odd + 2:
+            return "utf-16-be", 0
+        if odd >= 2 * even + 2:
+            return "utf-16-le", 0
     declared = _DECLARED_ENCODING.match(data[:200])
     if declared:
         name = declared.group(1).decode("ascii")
@@ -279,9 +286,16 @@ def _decode_packet(data: bytes | str) -> str:
     return _DECLARATION.sub("", text, count=1).strip()
 
 
+def _fromstring(data: bytes) -> ET.Element:
+    """Parse UTF-8 bytes as UTF-8, whatever encoding a declaration in them names."""
+    parser = ET.XMLParser(encoding="utf-8")
+    parser.feed(data)
+    return parser.close()
+
+
 def _parse_xml(data: bytes) -> ET.Element:
     try:
-        return ET.fromstring(data)
+        return _fromstring(data)
     except ET.ParseError as first_error:
         # Some writers pad the packet or put bytes around it: retry on the
         # <x:xmpmeta> ... </x:xmpmeta> element alone.
@@ -289,7 +303,7 @@ def _parse_xml(data: bytes) -> ET.Element:
         end = data.rfind(b"</x:xmpmeta>")
         if start >= 0 and end > start:
             try:
-                return ET.fromstring(data[start : end + len(b"</x:xmpmeta>")])
+                return _fromstring(data[start : end + len(b"</x:xmpmeta>")])
             except ET.ParseError:
                 pass
         raise InvalidValueError(f"XMP packet is not well-formed XML: {first_error}") from None
