@@ -39,6 +39,7 @@ __all__ = [
     "load_input",
     "save_output",
     "output_path",
+    "check_size_limit",
 ]
 
 
@@ -248,15 +249,21 @@ max_pixels_option = click.option(
 """The ``--max-pixels`` option: the pixel limit of :func:`spherewarp.io.pixel_limit`."""
 
 
-def _check_size_limit(size: tuple[int, int] | None, max_pixels: int | None) -> None:
-    """An output larger than the pixel limit could not be read back: refuse it up front."""
-    from ..io.images import pixel_limit
+def check_size_limit(
+    size: tuple[int, int] | None, max_pixels: int | None, *, option: bool = True
+) -> None:
+    """An output larger than the pixel limit could not be read back: refuse it up front.
+
+    ``option``: the command has ``--max-pixels`` (else only the environment sets the limit).
+    """
+    from ..io.images import MAX_PIXELS_ENV, pixel_limit
 
     limit = pixel_limit(max_pixels)
     if size is not None and size[0] * size[1] > limit:
         raise click.BadParameter(
             f"{size[0]}x{size[1]} = {size[0] * size[1]} pixels is more than the pixel limit "
-            f"{limit}; choose a smaller --size or raise --max-pixels",
+            f"{limit}; choose a smaller --size or raise the limit "
+            f"({'--max-pixels or ' if option else ''}{MAX_PIXELS_ENV})",
             param_hint="--size",
         )
 
@@ -318,7 +325,7 @@ def render_options(func: Callable) -> Callable:
     ]
 
     def wrapper(**kwargs: Any) -> Any:
-        _check_size_limit(kwargs["size"], kwargs["max_pixels"])
+        check_size_limit(kwargs["size"], kwargs["max_pixels"])
         render = RenderOptions(
             output=kwargs.pop("output"),
             overwrite=kwargs.pop("overwrite"),

@@ -73,7 +73,10 @@ def testpattern(
     from ..errors import InvalidValueError, OutputExistsError
     from ..io import write_image
     from ..testpattern import make_test_pattern
+    from ._common import check_size_limit
     from .mobius_cmds import check_output_suffix
+
+    check_size_limit(size, None, option=False)  # what spherewarp writes, it can read back
 
     if output.exists() and not overwrite:
         raise OutputExistsError(f"'{output}' exists; pass --overwrite to replace it")
@@ -238,5 +241,8 @@ def demo(directory: Path, overwrite: bool, size: tuple[int, int] | None, supersa
     (default ./spherewarp-demo).
     """
     from ..demo import run_demo
+    from ._common import check_size_limit
+
+    check_size_limit(size, None, option=False)
 
     run_demo(directory, overwrite=overwrite, size=size, supersample=supersample, echo=click.echo)
