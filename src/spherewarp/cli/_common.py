@@ -241,7 +241,7 @@ def input_argument(func: Callable) -> Callable:
 
 max_pixels_option = click.option(
     "--max-pixels",
-    type=click.IntRange(1, 2**62),
+    type=click.IntRange(min=1),
     metavar="N",
     help="Refuse inputs of more pixels than N, counting every EXR part and the canvas a "
     "GPano XMP declares (default: $SPHEREWARP_MAX_PIXELS, else 268435456 = 2**28).",
