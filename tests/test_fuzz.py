@@ -339,7 +339,7 @@ def _child_main() -> None:
         "canvas.jpg": lambda r: isinstance(r, SpherewarpError) and "canvas" in str(r) or repr(r),
     }
     for name in ("bomb.png", "bomb.jpg", "bomb.webp"):
-        checks[name] = lambda r: isinstance(r, SpherewarpError) and "max_pixels" in str(r) or r
+        checks[name] = lambda r: isinstance(r, SpherewarpError) and "pixel limit" in str(r) or r
     for name, path in image_cases:
         limit = None if name == "canvas.jpg" else MAX_PIXELS
         check = checks.get(name, is_image)

@@ -553,8 +553,8 @@ def _unidentified(p: Path, data: bytes) -> ImageFormatError:
 
 
 _RAISE_LIMIT = (
-    "raise max_pixels (CLI: --max-pixels, or the environment variable "
-    f"{MAX_PIXELS_ENV}) if the file is trusted"
+    f"if the file is trusted, raise the limit with --max-pixels or {MAX_PIXELS_ENV} "
+    "(Python: max_pixels=)"
 )
 
 
@@ -569,7 +569,7 @@ def _check_size(
         extra = f" (with {count} pixels of the parts before it)" if count else ""
         raise ImageFormatError(
             f"cannot read '{p}': {what} is {width}x{height} = {width * height} pixels{extra}, "
-            f"more than max_pixels={max_pixels} (possible decompression bomb); {_RAISE_LIMIT}"
+            f"more than the pixel limit {max_pixels} (possible decompression bomb); {_RAISE_LIMIT}"
         )
 
 
