@@ -16,7 +16,14 @@ import pytest
 from PIL import Image
 
 from spherewarp.errors import ImageFormatError, InvalidTypeError, InvalidValueError
-from spherewarp.io import DEFAULT_MAX_PIXELS, GPano, parse_gpano, read_image, write_image
+from spherewarp.io import (
+    DEFAULT_MAX_PIXELS,
+    GPano,
+    parse_gpano,
+    place_on_full_sphere,
+    read_image,
+    write_image,
+)
 from spherewarp.io.images import pixel_limit
 from spherewarp.io.xmp import gpano_xmp
 from test_fuzz import endless_writer, jpeg_with_xmp, write_multipart_exr  # tests/ is on sys.path
@@ -88,6 +95,16 @@ def test_declared_canvas_counts_against_the_limit(tmp_path):
     with pytest.raises(ImageFormatError, match="canvas"):
         read_image(path, max_pixels=100_000)
     assert read_image(path, max_pixels=512 * 256).width == 512
+
+
+def test_place_on_full_sphere_obeys_the_limit():
+    g = GPano(full_width=2**31 - 1, full_height=2**30, cropped_width=8, cropped_height=4)
+    with pytest.raises(InvalidValueError, match="pixel limit"):
+        place_on_full_sphere(np.zeros((4, 8, 3), np.uint8), g)
+    small = GPano(full_width=16, full_height=8, cropped_width=8, cropped_height=4)
+    with pytest.raises(InvalidValueError, match="pixel limit 100"):
+        place_on_full_sphere(np.zeros((4, 8, 3), np.uint8), small, max_pixels=100)
+    assert place_on_full_sphere(np.zeros((4, 8, 3), np.uint8), small).shape == (8, 16, 4)
 
 
 # -- files that are not regular files ---------------------------------------------------

@@ -380,7 +380,9 @@ def _scaled_placement(gpano: GPano, height: int, width: int) -> tuple[int, int, 
     return fw, fh, left, top
 
 
-def place_on_full_sphere(pixels: np.ndarray, gpano: GPano) -> np.ndarray:
+def place_on_full_sphere(
+    pixels: np.ndarray, gpano: GPano, *, max_pixels: int | None = None
+) -> np.ndarray:
     """Paste a cropped equirectangular image onto its full-sphere canvas.
 
     The canvas is ``gpano.full_height`` x ``gpano.full_width``; the image goes
@@ -401,6 +403,8 @@ def place_on_full_sphere(pixels: np.ndarray, gpano: GPano) -> np.ndarray:
         ``(H, W)`` or ``(H, W, C)``, ``C`` in 1..4, uint8, uint16 or float32.
     gpano : GPano
         Placement, with ``projection_type == "equirectangular"``.
+    max_pixels : int, optional
+        Refuse a canvas of more pixels (default: :func:`pixel_limit`).
 
     Returns
     -------
@@ -412,8 +416,8 @@ def place_on_full_sphere(pixels: np.ndarray, gpano: GPano) -> np.ndarray:
     InvalidTypeError
         If ``pixels`` or ``gpano`` has the wrong type.
     InvalidValueError
-        If the projection is not equirectangular or the image size does not
-        match the GPano cropped area.
+        If the projection is not equirectangular, the image size does not
+        match the GPano cropped area, or the canvas is over the pixel limit.
 
     Examples
     --------
@@ -441,6 +445,11 @@ def place_on_full_sphere(pixels: np.ndarray, gpano: GPano) -> np.ndarray:
         )
     h, w, c = arr.shape
     fw, fh, left, top = _scaled_placement(gpano, h, w)
+    limit = pixel_limit(max_pixels)
+    if fw * fh > limit:
+        raise InvalidValueError(
+            f"the GPano canvas {fw}x{fh} = {fw * fh} pixels is more than the pixel limit {limit}"
+        )
     if (w, h) == (fw, fh):
         return np.roll(arr, left, axis=1)
     out_c = c + 1 if c in (1, 3) else c
@@ -1042,7 +1051,7 @@ def read_image(
             try:
                 fw, fh = _scaled_placement(gpano, h, w)[:2]
                 _check_size(p, fw, fh, max_pixels, "the full-sphere canvas its GPano XMP declares")
-                arr = place_on_full_sphere(arr, gpano)
+                arr = place_on_full_sphere(arr, gpano, max_pixels=max_pixels)
             except InvalidValueError as exc:
                 warnings.warn(f"{p}: not placed on the full sphere: {exc}", stacklevel=2)
             else:
