@@ -719,8 +719,14 @@ def auto_scale(hole: Hole, *, border: float = 0.0, margin: float | None = None) 
     if margin is None:
         margin = 0.25 * hole.mean_radius
     lam_fit = _fit_scale(hole, float(border) + float(margin))
-    lam_bal = math.exp(_balanced_log_scale(hole))
-    return float(max(lam_fit, lam_bal, 1.01))
+    with np.errstate(all="ignore"):
+        log_bal = float(_balanced_log_scale(hole))
+    if not log_bal < math.log(1e100):  # the scale limit of droste maps (NaN too)
+        raise InvalidValueError(
+            f"the hole (mean radius {hole.mean_radius:.3g} degrees) is too small for an "
+            "automatic scale; use a larger hole or give the scale (CLI: --scale)"
+        )
+    return float(max(lam_fit, math.exp(log_bal), 1.01))
 
 
 # ---------------------------------------------------------------------------------------------

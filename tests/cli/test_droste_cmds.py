@@ -92,7 +92,7 @@ def test_frame_paths() -> None:
     assert frame_paths(Path("a/b.exr"), 2) == [Path("a/b_0000.exr"), Path("a/b_0001.exr")]
     assert frame_paths(Path("x_{:02d}.png"), 2) == [Path("x_00.png"), Path("x_01.png")]
     assert frame_paths(Path("d/%d.png"), 2) == [Path("d/0.png"), Path("d/1.png")]
-    with pytest.raises(InvalidValueError, match="same name"):
+    with pytest.raises(InvalidValueError, match="frame pattern"):
         frame_paths(Path("x%.0s.png"), 2)
     with pytest.raises(InvalidValueError, match="frame pattern"):
         frame_paths(Path("x%%.png"), 2)

@@ -49,6 +49,7 @@ def test_lattes_renders_like_the_api(capsys, workdir, pano):
         (["--alpha", "1+w", "--print"], "Gaussian integer"),
         (["--alpha", "0.5", "--print"], "Gaussian integer"),
         (["--alpha", "8+1j", "--print"], "<= 64"),
+        (["--alpha", "8", "--print"], "<= 49"),
         (["--alpha", "2"], "missing INPUT"),
         (["--lattice", "triangle", "--alpha", "2", "--print"], "triangle"),
     ],

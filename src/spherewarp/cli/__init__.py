@@ -16,6 +16,7 @@ from __future__ import annotations
 import importlib
 import os
 import sys
+import warnings
 from typing import Any
 
 import click
@@ -96,8 +97,22 @@ def _one_line(text: str) -> str:
     return " ".join(str(text).split())
 
 
+def _show_warning(message: Any, category: Any, *args: Any, **kwargs: Any) -> None:
+    """Print a Python warning as one ``spherewarp: warning: ...`` line (no source path)."""
+    click.echo(f"spherewarp: warning: {_one_line(message)}", err=True)
+
+
 def main(argv: list[str] | None = None) -> Any:
     """Run the command line; never lets a traceback reach the user for bad input."""
+    saved = warnings.showwarning
+    warnings.showwarning = _show_warning
+    try:
+        return _main(argv)
+    finally:
+        warnings.showwarning = saved
+
+
+def _main(argv: list[str] | None) -> Any:
     prog = "spherewarp"
     try:
         return cli.main(args=argv, prog_name=prog, standalone_mode=False)

@@ -42,6 +42,7 @@ __all__ = [
     "OutputPlan",
     "plan_output",
     "convert_for_output",
+    "check_size_limit",
 ]
 
 
@@ -117,8 +118,13 @@ class SizeType(click.ParamType):
                 h = w // 2
         except ValueError:
             self.fail(f"expected a size WxH like 2048x1024, got {value!r}", param, ctx)
-        if not (1 <= w <= 65536 and 1 <= h <= 32768):
-            self.fail(f"expected a size between 1x1 and 65536x32768, got {value!r}", param, ctx)
+        if not (1 <= w <= 65536 and 1 <= h <= 32768 and w * h <= 2**30):
+            self.fail(
+                "expected a size between 1x1 and 65536x32768 of at most 2**30 pixels "
+                f"(e.g. 46340x23170), got {value!r}",
+                param,
+                ctx,
+            )
         return w, h
 
 
@@ -253,6 +259,8 @@ class RenderOptions:
             _NOTES_SHOWN.add(text)
             click.echo(f"spherewarp: note: {text}", err=True)
 
+    max_pixels: int | None = None
+
     def warp_kwargs(self, pixels: Any) -> dict[str, Any]:
         """Keyword arguments for :func:`spherewarp.warp`."""
         kwargs: dict[str, Any] = {
@@ -277,11 +285,40 @@ def input_argument(func: Callable) -> Callable:
 
 _TONEMAPS = ("aces", "reinhard", "clip")  # spherewarp.io.tonemap.TONEMAPS (not imported here)
 
+max_pixels_option = click.option(
+    "--max-pixels",
+    type=click.IntRange(min=1),
+    metavar="N",
+    help="Refuse inputs of more pixels than N, counting every EXR part and the canvas a "
+    "GPano XMP declares (default: $SPHEREWARP_MAX_PIXELS, else 268435456 = 2**28).",
+)
+"""The ``--max-pixels`` option: the pixel limit of :func:`spherewarp.io.pixel_limit`."""
+
+
+def check_size_limit(
+    size: tuple[int, int] | None, max_pixels: int | None, *, option: bool = True
+) -> None:
+    """An output larger than the pixel limit could not be read back: refuse it up front.
+
+    ``option``: the command has ``--max-pixels`` (else only the environment sets the limit).
+    """
+    from ..io.images import MAX_PIXELS_ENV, pixel_limit
+
+    limit = pixel_limit(max_pixels)
+    if size is not None and size[0] * size[1] > limit:
+        raise click.BadParameter(
+            f"{size[0]}x{size[1]} = {size[0] * size[1]} pixels is more than the pixel limit "
+            f"{limit}; choose a smaller --size or raise the limit "
+            f"({'--max-pixels or ' if option else ''}{MAX_PIXELS_ENV})",
+            param_hint="--size",
+        )
+
 
 def render_options(func: Callable) -> Callable:
     """``-o``, ``--overwrite``, ``--force``, ``--size``, ``--interp``, ``--supersample``,
     ``--antialias``, ``--threads``, ``--quality``, ``--tonemap``, ``--exposure``,
-    ``--background``, ``--quiet``; the command receives them as one ``render`` argument."""
+    ``--background``, ``--quiet``, ``--max-pixels``; the command receives them as one
+    ``render`` argument."""
     options = [
         click.option(
             "-o",
@@ -369,9 +406,11 @@ def render_options(func: Callable) -> Callable:
             help="No progress bar and no notes (the 'wrote ...' line stays). The bar "
             "appears only on a terminal, for renders longer than a second.",
         ),
+        max_pixels_option,
     ]
 
     def wrapper(**kwargs: Any) -> Any:
+        check_size_limit(kwargs["size"], kwargs["max_pixels"])
         render = RenderOptions(
             output=kwargs.pop("output"),
             overwrite=kwargs.pop("overwrite"),
@@ -386,6 +425,7 @@ def render_options(func: Callable) -> Callable:
             exposure=kwargs.pop("exposure"),
             background=kwargs.pop("background"),
             quiet=kwargs.pop("quiet"),
+            max_pixels=kwargs.pop("max_pixels"),
         )
         return func(render=render, **kwargs)
 
@@ -403,7 +443,7 @@ def load_input(path: Path, render: RenderOptions | None = None) -> Any:
     from ..io import read_image
     from ..render.warp import check_equirect
 
-    data = read_image(path)
+    data = read_image(path, max_pixels=render.max_pixels if render else None)
     check_equirect(data.pixels, force=bool(render and render.force), name=str(path))
     return data
 

@@ -10,6 +10,7 @@ rectangle drawn.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -50,12 +51,19 @@ SCALE = ScaleType()
 DEGREES = RealType("degrees", "12.5", metavar="DEG")
 
 
+#: the one frame-number field of a --frames pattern: %d, %0Nd, {} or {:0Nd}, N = 1..9
+_FRAME_FIELD = re.compile(r"%(?:0([1-9]))?d|\{(?::(?:0([1-9]))?d)?\}")
+
+
 def frame_paths(output: Path, n: int) -> list[Path]:
     """The file names of ``n`` frames for ``-o OUTPUT``.
 
-    ``OUT.png`` gives ``OUT_0000.png``, ``OUT_0001.png`` ...; a pattern with
-    ``%d``/``%04d`` or ``{}``/``{:04d}`` is filled in with the frame number
-    (``frames/%04d.png`` puts them into a directory, created if missing).
+    ``OUT.png`` gives ``OUT_0000.png``, ``OUT_0001.png`` ...; a pattern holds
+    one frame-number field, zero-padded to width N (1..9) or not padded,
+    written ``%0Nd`` / ``%d`` or ``{:0Nd}`` / ``{}``, and no other ``%``,
+    ``{`` or ``}`` (``frames/%04d.png`` puts them into a directory, created if
+    missing). Nothing else is interpreted: the pattern is never passed to
+    ``%`` or ``str.format``.
 
     Examples
     --------
@@ -67,20 +75,19 @@ def frame_paths(output: Path, n: int) -> list[Path]:
     from ..errors import InvalidValueError
 
     text = str(output)
-    try:
-        if "%" in text:
-            names = [text % k for k in range(n)]
-        elif "{" in text:
-            names = [text.format(k) for k in range(n)]
-        else:
-            return [output.with_name(f"{output.stem}_{k:04d}{output.suffix}") for k in range(n)]
-    except (TypeError, ValueError, IndexError, KeyError):
+    if not any(c in text for c in "%{}"):
+        return [output.with_name(f"{output.stem}_{k:04d}{output.suffix}") for k in range(n)]
+    fields = list(_FRAME_FIELD.finditer(text))
+    rest = _FRAME_FIELD.sub("", text)
+    if len(fields) != 1 or any(c in rest for c in "%{}"):
+        shown = repr(text) if len(text) <= 80 else repr(text[:80] + "...")
         raise InvalidValueError(
-            f"expected a frame pattern like out_%04d.png or out_{{:04d}}.png, got {text!r}"
-        ) from None
-    if len(set(names)) != n:
-        raise InvalidValueError(f"the pattern {text!r} gives the same name to several frames")
-    return [Path(s) for s in names]
+            "expected a frame pattern with one field %0Nd or {:0Nd} (N = 1..9, or %d, {}), "
+            f"like out_%04d.png, and no other '%', '{{' or '}}'; got {shown}"
+        )
+    width = int(fields[0].group(1) or fields[0].group(2) or 0)
+    head, tail = text[: fields[0].start()], text[fields[0].end() :]
+    return [Path(f"{head}{k:0{width}d}{tail}") for k in range(n)]
 
 
 def _check_suffix(path: Path) -> None:
@@ -172,7 +179,8 @@ def _check_suffix(path: Path) -> None:
     "--frames",
     type=click.IntRange(1, 100000),
     help="Render N frames of a seamless zoom loop: OUT_0000.png ... (or a pattern "
-    "such as frames/%04d.png; missing directories are created).",
+    "with one field %0Nd or {:0Nd}, N = 1..9, such as frames/%04d.png; missing "
+    "directories are created).",
 )
 @click.option(
     "--view",
@@ -253,7 +261,9 @@ def droste(
     elif mask is not None:
         from ..io import read_image
 
-        hole = dr.hole_from_mask(read_image(mask).pixels, center, far=far)
+        hole = dr.hole_from_mask(
+            read_image(mask, max_pixels=render.max_pixels).pixels, center, far=far
+        )
     else:
         hole = dr.hole_from_radius(center, inner_radius, far=far)
     d = dr.droste_map(

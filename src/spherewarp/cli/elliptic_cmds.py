@@ -57,7 +57,8 @@ def _json_of_fit(data: dict[str, Any]) -> str:
     "--alpha",
     required=True,
     help="The lattice element: a Gaussian integer a+bj for --lattice square (1+1j, 2, 2+1j), "
-    "an Eisenstein integer a+bw for hex (1+w, 2, 2-w). The map has degree |alpha|^2 <= 64.",
+    "an Eisenstein integer a+bw for hex (1+w, 2, 2-w). The map has degree |alpha|^2 <= 49 "
+    "(<= 64 with --exact).",
 )
 @click.option(
     "--exact",
@@ -97,6 +98,13 @@ def lattes(
     except InvalidValueError as exc:
         raise InvalidValueError(f"--alpha: {exc}") from None
     if print_map:
+        from ..maps.elliptic import MAX_FITTED_DEGREE
+
+        if lmap.degree > MAX_FITTED_DEGREE:
+            raise InvalidValueError(
+                f"--print shows the fitted rational map, which holds for |alpha|^2 <= "
+                f"{MAX_FITTED_DEGREE}; alpha = {alpha} has degree {lmap.degree}"
+            )
         data = {**lmap.rational().to_dict(), "degree": lmap.degree}
         data["residual"] = lmap.fit_residual()
         click.echo(_json_of_fit(data))
@@ -194,7 +202,7 @@ def peirce(input: Path, render: RenderOptions, inverse: bool, lon0: float) -> No
     if inverse:
         from ..io import read_image
 
-        src = read_image(input)
+        src = read_image(input, max_pixels=render.max_pixels)
         h, w = src.pixels.shape[:2]
         if h != w:
             raise InvalidValueError(

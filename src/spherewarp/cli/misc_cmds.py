@@ -8,7 +8,7 @@ from typing import Any
 
 import click
 
-from ._common import SIZE, example, input_argument
+from ._common import SIZE, example, input_argument, max_pixels_option
 
 __all__ = ["testpattern", "info", "demo"]
 
@@ -73,7 +73,10 @@ def testpattern(
     from ..errors import InvalidValueError, OutputExistsError
     from ..io import write_image
     from ..testpattern import make_test_pattern
+    from ._common import check_size_limit
     from .mobius_cmds import check_output_suffix
+
+    check_size_limit(size, None, option=False)  # what spherewarp writes, it can read back
 
     if output.exists() and not overwrite:
         raise OutputExistsError(f"'{output}' exists; pass --overwrite to replace it")
@@ -238,9 +241,10 @@ def _format_info(info: dict[str, Any]) -> str:
 @click.command(epilog=example("spherewarp info room.jpg", "spherewarp info room.exr --json"))
 @input_argument
 @click.option("--json", "as_json", is_flag=True, help="Print the information as JSON.")
-def info(input: Path, as_json: bool) -> None:
+@max_pixels_option
+def info(input: Path, as_json: bool, max_pixels: int | None) -> None:
     """Describe an image: size, sample type, channels, 360° metadata, colour profile."""
-    data = image_info(input)
+    data = image_info(input, max_pixels)
     click.echo(json.dumps(data, indent=2) if as_json else _format_info(data))
 
 
@@ -270,5 +274,8 @@ def demo(directory: Path, overwrite: bool, size: tuple[int, int] | None, supersa
     (default ./spherewarp-demo).
     """
     from ..demo import run_demo
+    from ._common import check_size_limit
+
+    check_size_limit(size, None, option=False)
 
     run_demo(directory, overwrite=overwrite, size=size, supersample=supersample, echo=click.echo)

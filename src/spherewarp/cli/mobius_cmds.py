@@ -56,7 +56,8 @@ class MatrixType(click.ParamType):
 
 
 ANGLE = RealType("an angle in degrees", "30 or -12.5", metavar="DEG")
-FACTOR = RealType("a zoom factor", "2, or 0.5 to zoom out", metavar="F", gt=0)
+# Beyond 1e9 either way the whole image is one pixel and the matrix nears double precision.
+FACTOR = RealType("a zoom factor", "2, or 0.5 to zoom out", metavar="F", ge=1e-9, le=1e9)
 MATRIX = MatrixType()
 
 _PRINT_HELP = (
@@ -226,7 +227,7 @@ def rotate(
     "--factor",
     type=FACTOR,
     required=True,
-    help="Magnification at the point (> 0); its antipode shrinks by the same factor.",
+    help="Magnification at the point (1e-9 to 1e9); its antipode shrinks by the same factor.",
 )
 @click.option("--center", is_flag=True, help="Also turn the zoom point to the image centre.")
 @click.option("--print", "print_map", is_flag=True, help=_PRINT_HELP)

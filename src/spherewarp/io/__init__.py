@@ -2,7 +2,8 @@
 
 :func:`read_image` and :func:`write_image` read and write PNG, JPEG, TIFF, WebP
 and OpenEXR, keeping the sample type (uint8, uint16, float32), the ICC profile,
-EXIF and the GPano XMP that marks a 360° panorama. See
+EXIF and the GPano XMP that marks a 360° panorama; :func:`pixel_limit` is the
+one pixel limit every input obeys. See
 :mod:`spherewarp.io.images` and :mod:`spherewarp.io.xmp`.
 """
 
@@ -11,6 +12,7 @@ from .images import (
     SUPPORTED_EXTENSIONS,
     ImageData,
     convert_dtype,
+    pixel_limit,
     place_on_full_sphere,
     read_image,
     write_image,
@@ -26,6 +28,7 @@ __all__ = [
     "convert_dtype",
     "gpano_xmp",
     "parse_gpano",
+    "pixel_limit",
     "place_on_full_sphere",
     "read_image",
     "write_image",

@@ -63,9 +63,13 @@ from __future__ import annotations
 
 import contextlib
 import io
+import logging
 import os
 import secrets
+import stat
 import struct
+import sys
+import tempfile
 import types
 import warnings
 import zlib
@@ -90,13 +94,19 @@ __all__ = [
     "SUPPORTED_EXTENSIONS",
     "ImageData",
     "convert_dtype",
+    "pixel_limit",
     "place_on_full_sphere",
     "read_image",
     "write_image",
 ]
 
 DEFAULT_MAX_PIXELS = 2**28
-"""Default pixel-count limit of :func:`read_image` (268,435,456, e.g. 23170 x 11585)."""
+"""Default pixel-count limit of :func:`read_image` (268,435,456, e.g. 23170 x 11585).
+
+See :func:`pixel_limit` for how the limit is chosen and what it covers."""
+
+MAX_PIXELS_ENV = "SPHEREWARP_MAX_PIXELS"
+"""Environment variable that sets the pixel limit when no ``max_pixels`` is given."""
 
 SUPPORTED_EXTENSIONS: Mapping[str, str] = types.MappingProxyType(
     {
@@ -120,6 +130,7 @@ _FORMAT_DTYPES = {
     "EXR": _DTYPES,
 }
 _MAX_SIDE = {"JPEG": 65535, "WEBP": 16383}
+_JPEG_MAX_EXIF = 65533  # an APP1 segment's payload (Pillow's MAX_BYTES_IN_MARKER)
 _EXIF_HEADER = b"Exif\x00\x00"
 _PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 _XMP_JPEG_HEADER = b"http://ns.adobe.com/xap/1.0/\x00"
@@ -195,6 +206,59 @@ class ImageData:
             f"dtype={self.pixels.dtype}, icc_profile={size(self.icc_profile)}, "
             f"exif={size(self.exif)}, gpano={self.gpano!r}, path={str(self.path)!r})"
         )
+
+
+def pixel_limit(max_pixels: int | None = None) -> int:
+    """The pixel-count limit of :func:`read_image`: the one place it is decided.
+
+    The limit is ``max_pixels`` when given, else the environment variable
+    ``SPHEREWARP_MAX_PIXELS`` when set, else :data:`DEFAULT_MAX_PIXELS`
+    (2**28 = 268,435,456 pixels). The CLI option ``--max-pixels`` passes its
+    value here. Every format obeys the same limit, checked on the header
+    before anything is decoded: the image itself, the sum of all the parts of
+    a multi-part OpenEXR file (every part is decoded), and the full-sphere
+    canvas that a GPano XMP packet declares (the image is placed on it).
+
+    Parameters
+    ----------
+    max_pixels : int, optional
+        An explicit limit, >= 1.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    InvalidTypeError, InvalidValueError
+        If ``max_pixels`` or the environment variable is not a positive integer.
+
+    Examples
+    --------
+    >>> pixel_limit(1000)
+    1000
+    >>> import os
+    >>> os.environ.get("SPHEREWARP_MAX_PIXELS") is None and pixel_limit() == DEFAULT_MAX_PIXELS
+    True
+    """
+    if max_pixels is None:
+        text = os.environ.get(MAX_PIXELS_ENV, "").strip()
+        if not text:
+            return DEFAULT_MAX_PIXELS
+        try:
+            max_pixels = int(text.replace("_", ""))
+        except ValueError:
+            max_pixels = 0
+        if not 1 <= max_pixels <= 2**62:
+            raise InvalidValueError(
+                f"{MAX_PIXELS_ENV} must be a positive integer pixel count, got {text[:40]!r}"
+            )
+        return max_pixels
+    if isinstance(max_pixels, bool) or not isinstance(max_pixels, (int, np.integer)):
+        raise InvalidTypeError(f"max_pixels must be an int, got {type(max_pixels).__name__}")
+    if max_pixels < 1:
+        raise InvalidValueError(f"max_pixels must be >= 1, got {max_pixels}")
+    return int(max_pixels)
 
 
 def _dtype_arg(dtype: Any) -> np.dtype:
@@ -316,7 +380,9 @@ def _scaled_placement(gpano: GPano, height: int, width: int) -> tuple[int, int, 
     return fw, fh, left, top
 
 
-def place_on_full_sphere(pixels: np.ndarray, gpano: GPano) -> np.ndarray:
+def place_on_full_sphere(
+    pixels: np.ndarray, gpano: GPano, *, max_pixels: int | None = None
+) -> np.ndarray:
     """Paste a cropped equirectangular image onto its full-sphere canvas.
 
     The canvas is ``gpano.full_height`` x ``gpano.full_width``; the image goes
@@ -337,6 +403,8 @@ def place_on_full_sphere(pixels: np.ndarray, gpano: GPano) -> np.ndarray:
         ``(H, W)`` or ``(H, W, C)``, ``C`` in 1..4, uint8, uint16 or float32.
     gpano : GPano
         Placement, with ``projection_type == "equirectangular"``.
+    max_pixels : int, optional
+        Refuse a canvas of more pixels (default: :func:`pixel_limit`).
 
     Returns
     -------
@@ -348,8 +416,8 @@ def place_on_full_sphere(pixels: np.ndarray, gpano: GPano) -> np.ndarray:
     InvalidTypeError
         If ``pixels`` or ``gpano`` has the wrong type.
     InvalidValueError
-        If the projection is not equirectangular or the image size does not
-        match the GPano cropped area.
+        If the projection is not equirectangular, the image size does not
+        match the GPano cropped area, or the canvas is over the pixel limit.
 
     Examples
     --------
@@ -377,6 +445,11 @@ def place_on_full_sphere(pixels: np.ndarray, gpano: GPano) -> np.ndarray:
         )
     h, w, c = arr.shape
     fw, fh, left, top = _scaled_placement(gpano, h, w)
+    limit = pixel_limit(max_pixels)
+    if fw * fh > limit:
+        raise InvalidValueError(
+            f"the GPano canvas {fw}x{fh} = {fw * fh} pixels is more than the pixel limit {limit}"
+        )
     if (w, h) == (fw, fh):
         return np.roll(arr, left, axis=1)
     out_c = c + 1 if c in (1, 3) else c
@@ -400,6 +473,58 @@ def _as_path(path: object, what: str) -> Path:
             raise InvalidValueError(f"{what} must name a file, got {str(path)!r}")
         return p
     raise InvalidTypeError(f"{what} must be a str or os.PathLike, got {type(path).__name__}")
+
+
+@contextlib.contextmanager
+def _quiet_fds() -> Any:
+    """Send what C libraries (libpng, OpenEXR) print on fds 1 and 2 to a discarded file."""
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):
+            stream.flush()
+    try:
+        saved = (os.dup(1), os.dup(2))
+    except OSError:  # no stdout or stderr to protect
+        yield
+        return
+    try:
+        with tempfile.TemporaryFile() as sink:
+            os.dup2(sink.fileno(), 1)
+            os.dup2(sink.fileno(), 2)
+            try:
+                yield
+            finally:
+                for stream in (sys.stdout, sys.stderr):
+                    with contextlib.suppress(Exception):
+                        stream.flush()
+                os.dup2(saved[0], 1)
+                os.dup2(saved[1], 2)
+    finally:
+        os.close(saved[0])
+        os.close(saved[1])
+
+
+@contextlib.contextmanager
+def _quiet_decoder(p: Path) -> Any:
+    """Silence a decoder: C output, tifffile's log; its warnings only if it succeeds.
+
+    A decoder that fails ends in one error, without the warnings it gave on the
+    way; one that succeeds passes on each distinct warning once, naming the file.
+    """
+    log = logging.getLogger("tifffile")
+    was_disabled = log.disabled
+    log.disabled = True
+    try:
+        with warnings.catch_warnings(record=True) as caught, _quiet_fds():
+            warnings.simplefilter("always")
+            yield
+    finally:
+        log.disabled = was_disabled
+    seen = set()
+    for w in caught:
+        text = " ".join(str(w.message).split())
+        if text not in seen:
+            seen.add(text)
+            warnings.warn(f"{p}: {text}", w.category, stacklevel=4)
 
 
 def _sniff(head: bytes) -> str | None:
@@ -436,16 +561,24 @@ def _unidentified(p: Path, data: bytes) -> ImageFormatError:
     )
 
 
-def _check_size(p: Path, width: int, height: int, max_pixels: int) -> None:
+_RAISE_LIMIT = f"if the file is trusted, raise the limit with --max-pixels or {MAX_PIXELS_ENV}"
+_RAISE_LIMIT_PY = f"if the file is trusted, pass a larger max_pixels= or set {MAX_PIXELS_ENV}"
+
+
+def _check_size(
+    p: Path, width: int, height: int, max_pixels: int, what: str = "image", count: int = 0
+) -> None:
+    """Refuse an empty image or one of more than ``max_pixels`` (plus ``count`` already read)."""
     if width <= 0 or height <= 0:
-        raise ImageFormatError(f"cannot read '{p}': header gives an empty image {width}x{height}")
-    if width * height > max_pixels:
-        what = f"cannot read '{p}': image is {width}x{height} = {width * height} pixels, more than"
-        raise ImageFormatError(
-            f"{what} max_pixels={max_pixels} (possible decompression bomb); pass a larger "
-            "max_pixels if the file is trusted",
-            cli=f"{what} the limit of {max_pixels} (possible decompression bomb)",
+        raise ImageFormatError(f"cannot read '{p}': header gives an empty {what} {width}x{height}")
+    total = width * height + count
+    if total > max_pixels:
+        extra = f" (with {count} pixels of the parts before it)" if count else ""
+        why = (
+            f"cannot read '{p}': {what} is {width}x{height} = {width * height} pixels{extra}, "
+            f"more than the pixel limit {max_pixels} (possible decompression bomb); "
         )
+        raise ImageFormatError(why + _RAISE_LIMIT_PY, cli=why + _RAISE_LIMIT)
 
 
 def _exif_with_header(exif: bytes | None) -> bytes | None:
@@ -502,6 +635,18 @@ def _pillow_class(fmt: str) -> Any:
         raise ImageFormatError("this Pillow was built without WebP support") from exc
 
 
+@contextlib.contextmanager
+def _pillow_limit_lifted() -> Any:
+    from PIL import Image
+
+    saved = Image.MAX_IMAGE_PIXELS
+    Image.MAX_IMAGE_PIXELS = None
+    try:
+        yield
+    finally:
+        Image.MAX_IMAGE_PIXELS = saved
+
+
 def _read_pillow(p: Path, data: bytes, fmt: str, max_pixels: int) -> tuple:
     from PIL import Image
 
@@ -509,8 +654,16 @@ def _read_pillow(p: Path, data: bytes, fmt: str, max_pixels: int) -> tuple:
     # The plugin class is used directly rather than Image.open(): Image.open checks
     # Image.MAX_IMAGE_PIXELS (warning above 89 Mpx, error above 179 Mpx), but here
     # max_pixels is the limit, checked on the header before anything is decoded.
+    # The WebP plugin allocates its canvas when the file is opened and checks
+    # Pillow's limit first: check ours on the header instead, and lift Pillow's.
+    if fmt == "WEBP":
+        from PIL import WebPImagePlugin
+
+        size = WebPImagePlugin._get_size(data[:30])
+        if size:
+            _check_size(p, size[0], size[1], max_pixels)
     try:
-        with cls(io.BytesIO(data)) as im:
+        with _pillow_limit_lifted(), cls(io.BytesIO(data)) as im:
             _check_size(p, im.size[0], im.size[1], max_pixels)
             info = im.info
             icc = info.get("icc_profile") or None
@@ -636,12 +789,18 @@ def _read_tiff(p: Path, data: bytes, max_pixels: int) -> tuple:
     return arr, icc, _tiff_exif(data), xmp
 
 
-def _exr_check_header(p: Path, header: Mapping[str, Any], max_pixels: int) -> None:
-    (x0, y0), (x1, y1) = (tuple(int(v) for v in corner) for corner in header["dataWindow"])
-    _check_size(p, x1 - x0 + 1, y1 - y0 + 1, max_pixels)
-    storage = header.get("type")
-    if storage is not None and "deep" in str(storage).lower():
-        raise ImageFormatError(f"cannot read '{p}': deep EXR images are not supported")
+def _exr_check_parts(p: Path, parts: list, max_pixels: int) -> None:
+    """Check every part: the binding decodes them all, so their sizes add up."""
+    count = 0
+    for k, part in enumerate(parts):
+        header = part.header
+        (x0, y0), (x1, y1) = (tuple(int(v) for v in corner) for corner in header["dataWindow"])
+        what = "image" if len(parts) == 1 else f"EXR part {k} of {len(parts)}"
+        _check_size(p, x1 - x0 + 1, y1 - y0 + 1, max_pixels, what, count)
+        count += (x1 - x0 + 1) * (y1 - y0 + 1)
+        storage = header.get("type")
+        if storage is not None and "deep" in str(storage).lower():
+            raise ImageFormatError(f"cannot read '{p}': deep EXR images are not supported")
 
 
 def _read_exr(p: Path, max_pixels: int) -> tuple:
@@ -653,13 +812,13 @@ def _read_exr(p: Path, max_pixels: int) -> tuple:
         # then checked after decoding.
         checked = bool(head.parts)
         if checked:
-            _exr_check_header(p, head.parts[0].header, max_pixels)
+            _exr_check_parts(p, head.parts, max_pixels)
         f = OpenEXR.File(str(p), separate_channels=True)
         part = f.parts[0]
         channels = part.channels
         header = part.header
         if not checked:
-            _exr_check_header(p, header, max_pixels)
+            _exr_check_parts(p, f.parts, max_pixels)
     except SpherewarpError:
         raise
     except Exception as exc:
@@ -704,10 +863,92 @@ def _read_exr(p: Path, max_pixels: int) -> tuple:
     return arr, None, None, xmp, latlong
 
 
+def _read_file(p: Path) -> bytes:
+    """The bytes of a regular file; devices, FIFOs and sockets are refused unread."""
+    flags = os.O_RDONLY | getattr(os, "O_BINARY", 0) | getattr(os, "O_NONBLOCK", 0)
+    try:
+        fd = os.open(p, flags)  # O_NONBLOCK: opening a FIFO with no writer does not hang
+    except FileNotFoundError:
+        raise ImageFormatError(f"cannot read '{p}': no such file") from None
+    except IsADirectoryError:
+        raise ImageFormatError(
+            f"cannot read '{p}': is a directory, expected an image file"
+        ) from None
+    except OSError as exc:
+        raise ImageFormatError(f"cannot read '{p}': {exc.strerror or exc}") from exc
+    mode = os.fstat(fd).st_mode
+    if not stat.S_ISREG(mode):
+        os.close(fd)
+        if stat.S_ISDIR(mode):
+            raise ImageFormatError(f"cannot read '{p}': is a directory, expected an image file")
+        raise ImageFormatError(
+            f"cannot read '{p}': not a regular file (a device, FIFO or socket); "
+            "expected an image file"
+        )
+    with open(fd, "rb", closefd=True) as fh:
+        try:
+            data = fh.read()
+        except OSError as exc:
+            raise ImageFormatError(f"cannot read '{p}': {exc.strerror or exc}") from exc
+    if not data:
+        raise ImageFormatError(f"cannot read '{p}': the file is empty, expected an image")
+    return data
+
+
+def _checked_icc(p: Path, icc: object, channels: int) -> bytes | None:
+    """The ICC profile if its header is sane and fits the pixels, else None and a warning.
+
+    Checked on reading so that a bad profile cannot fail the write of a result
+    after the whole render."""
+    if isinstance(icc, (tuple, list)):
+        icc = bytes(icc)
+    if not icc:
+        return None
+    if isinstance(icc, str):
+        icc = icc.encode("latin-1", "replace")
+    icc = bytes(icc)
+    ok = len(icc) >= 128 and icc[36:40] == b"acsp"
+    if ok and struct.unpack(">I", icc[:4])[0] > len(icc):
+        ok = False
+    if not ok:
+        warnings.warn(f"{p}: ignoring an unreadable ICC profile ({len(icc)} bytes)", stacklevel=3)
+        return None
+    space = icc[16:20]
+    if space == b"RGB " and channels < 3 or space == b"GRAY" and channels >= 3:
+        warnings.warn(
+            f"{p}: ignoring the ICC profile: it is for colour space "
+            f"{space.decode('latin-1').strip()} but the image has {channels} channel(s)",
+            stacklevel=3,
+        )
+        return None
+    return icc
+
+
+def _checked_exif(p: Path, exif: object) -> bytes | None:
+    """The EXIF blob if Pillow can parse it (as writing needs), else None and a warning."""
+    if not exif:
+        return None
+    if not isinstance(exif, (bytes, bytearray, memoryview)):
+        return None
+    blob = _exif_with_header(bytes(exif))
+    from PIL import Image
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            parsed = Image.Exif()
+            parsed.load(blob)
+            parsed.tobytes()
+    except Exception:
+        warnings.warn(f"{p}: ignoring unreadable EXIF ({len(blob or b'')} bytes)", stacklevel=3)
+        return None
+    return blob
+
+
 def read_image(
     path: str | os.PathLike[str],
     *,
-    max_pixels: int = DEFAULT_MAX_PIXELS,
+    max_pixels: int | None = None,
     full_sphere: bool = True,
 ) -> ImageData:
     """Read a panorama, keeping its sample type.
@@ -722,9 +963,12 @@ def read_image(
     ----------
     path : str or os.PathLike
         The file to read.
-    max_pixels : int
+    max_pixels : int, optional
         Refuse images with more pixels than this, checked on the header before
-        decoding. It replaces Pillow's own ``Image.MAX_IMAGE_PIXELS`` check.
+        decoding; default: :func:`pixel_limit` (``SPHEREWARP_MAX_PIXELS`` or
+        :data:`DEFAULT_MAX_PIXELS`). It covers every part of a multi-part EXR
+        and the full-sphere canvas a GPano packet declares, and replaces
+        Pillow's own ``Image.MAX_IMAGE_PIXELS`` check for every format.
     full_sphere : bool
         If the file's GPano XMP says it holds a cropped part of an
         equirectangular panorama, place it on the full-sphere canvas with
@@ -742,8 +986,15 @@ def read_image(
         For bad arguments.
     ImageFormatError
         If the file is missing, a directory, unreadable, not a supported image,
-        corrupt or truncated, larger than ``max_pixels``, or holds samples of
-        another type (bilevel TIFF, int16, float64, ...).
+        not a regular file (a device, FIFO or socket), corrupt or truncated,
+        larger than ``max_pixels`` (or declares a GPano canvas that is), or
+        holds samples of another type (bilevel TIFF, int16, float64, ...).
+
+    Warns
+    -----
+    UserWarning
+        When the GPano XMP, the ICC profile or the EXIF is unreadable: it is
+        ignored (dropped), so that it cannot fail the write of a result.
 
     Examples
     --------
@@ -753,33 +1004,22 @@ def read_image(
     ('PNG', (512, 1024, 3), dtype('uint8'))
     """
     p = _as_path(path, "path")
-    if isinstance(max_pixels, bool) or not isinstance(max_pixels, int):
-        raise InvalidTypeError(f"max_pixels must be an int, got {type(max_pixels).__name__}")
-    if max_pixels < 1:
-        raise InvalidValueError(f"max_pixels must be >= 1, got {max_pixels}")
+    max_pixels = pixel_limit(max_pixels)
     if not isinstance(full_sphere, bool):
         raise InvalidTypeError(f"full_sphere must be a bool, got {type(full_sphere).__name__}")
-    if p.is_dir():
-        raise ImageFormatError(f"cannot read '{p}': is a directory, expected an image file")
-    try:
-        data = p.read_bytes()
-    except FileNotFoundError:
-        raise ImageFormatError(f"cannot read '{p}': no such file") from None
-    except OSError as exc:
-        raise ImageFormatError(f"cannot read '{p}': {exc.strerror or exc}") from exc
-    if not data:
-        raise ImageFormatError(f"cannot read '{p}': the file is empty, expected an image")
+    data = _read_file(p)
     fmt = _sniff(data[:16])
     latlong = False
-    if fmt is None:
-        raise _unidentified(p, data)
-    if fmt == "TIFF":
-        arr, icc, exif, xmp = _read_tiff(p, data, max_pixels)
-    elif fmt == "EXR":
-        del data
-        arr, icc, exif, xmp, latlong = _read_exr(p, max_pixels)
-    else:
-        arr, icc, exif, xmp = _read_pillow(p, data, fmt, max_pixels)
+    with _quiet_decoder(p):
+        if fmt is None:
+            raise _unidentified(p, data)
+        if fmt == "TIFF":
+            arr, icc, exif, xmp = _read_tiff(p, data, max_pixels)
+        elif fmt == "EXR":
+            del data
+            arr, icc, exif, xmp, latlong = _read_exr(p, max_pixels)
+        else:
+            arr, icc, exif, xmp = _read_pillow(p, data, fmt, max_pixels)
 
     if arr.dtype == np.float16:
         arr = arr.astype(np.float32)
@@ -795,6 +1035,7 @@ def read_image(
             f"cannot read '{p}': expected 1 to 4 channels, got image shape {arr.shape}"
         )
 
+    icc, exif = _checked_icc(p, icc, arr.shape[2]), _checked_exif(p, exif)
     gpano = None
     if xmp:
         try:
@@ -807,15 +1048,17 @@ def read_image(
         h, w = arr.shape[:2]
         if gpano.is_cropped or (gpano.cropped_width, gpano.cropped_height) != (w, h):
             try:
-                arr = place_on_full_sphere(arr, gpano)
+                fw, fh = _scaled_placement(gpano, h, w)[:2]
+                _check_size(p, fw, fh, max_pixels, "the full-sphere canvas its GPano XMP declares")
+                arr = place_on_full_sphere(arr, gpano, max_pixels=max_pixels)
             except InvalidValueError as exc:
                 warnings.warn(f"{p}: not placed on the full sphere: {exc}", stacklevel=2)
             else:
                 gpano = gpano.as_full_sphere(arr.shape[1], arr.shape[0])
     return ImageData(
         pixels=np.ascontiguousarray(arr),
-        icc_profile=bytes(icc) if icc else None,
-        exif=_exif_with_header(exif),
+        icc_profile=icc,
+        exif=exif,
         gpano=gpano,
         format=fmt,
         path=p,
@@ -1218,6 +1461,13 @@ def write_image(
         raise InvalidTypeError(f"overwrite must be a bool, got {type(overwrite).__name__}")
     icc = _bytes_arg(icc_profile, "icc_profile")
     exif_blob = _exif_with_header(_bytes_arg(exif, "exif"))
+    if fmt == "JPEG" and exif_blob and len(exif_blob) > _JPEG_MAX_EXIF:
+        warnings.warn(
+            f"{p}: EXIF of {len(exif_blob)} bytes does not fit a JPEG APP1 segment "
+            f"({_JPEG_MAX_EXIF} bytes at most); dropped",
+            stacklevel=2,
+        )
+        exif_blob = None
     h, w = arr.shape[:2]
     g = _gpano_arg(gpano, h, w)
     _check_format(p, fmt, arr)
@@ -1250,7 +1500,8 @@ def write_image(
         ) from exc
     try:
         try:
-            _WRITERS[fmt](tmp, arr, meta)
+            with _quiet_fds():  # C encoders' own messages: the error says what failed
+                _WRITERS[fmt](tmp, arr, meta)
             _fsync(tmp)
             _commit(tmp, p, overwrite)
         except SpherewarpError:

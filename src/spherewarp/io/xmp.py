@@ -24,7 +24,12 @@ hold for the pixels as captured; an edit that turns the image updates them
 
 :func:`parse_gpano` accepts the two forms that XMP writers use, properties as
 attributes of ``rdf:Description`` or as child elements, and parses with
-:mod:`xml.etree.ElementTree`; packets with a DTD are refused.
+:mod:`xml.etree.ElementTree`. A packet is decoded first (UTF-8, UTF-16 or
+UTF-32, by its byte-order mark, its first bytes or its XML declaration) and a
+packet with a DTD (``<!DOCTYPE``, ``<!ENTITY``) is refused in every encoding,
+so no entity is ever expanded; the parser then sees exactly the text that was
+checked, re-encoded as UTF-8. GPano numbers must be integers from 0 to
+``2**31 - 1``.
 
 Examples
 --------
@@ -39,7 +44,9 @@ True
 
 from __future__ import annotations
 
+import codecs
 import math
+import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, replace
 from xml.sax.saxutils import quoteattr
@@ -317,9 +324,82 @@ def gpano_xmp(gpano: GPano) -> str:
     )
 
 
+_MAX_GPANO_VALUE = 2**31 - 1
+_MAX_NUMBER_TEXT = 40
+_BOMS = (
+    (codecs.BOM_UTF32_BE, "utf-32-be"),
+    (codecs.BOM_UTF32_LE, "utf-32-le"),
+    (codecs.BOM_UTF8, "utf-8"),
+    (codecs.BOM_UTF16_BE, "utf-16-be"),
+    (codecs.BOM_UTF16_LE, "utf-16-le"),
+)
+# How a packet that starts with "<" begins in each encoding without a BOM.
+_FIRST_BYTES = (
+    (b"\x00\x00\x00<", "utf-32-be"),
+    (b"<\x00\x00\x00", "utf-32-le"),
+    (b"\x00<", "utf-16-be"),
+    (b"<\x00", "utf-16-le"),
+)
+_DECLARATION = re.compile(r"^\s*<\?xml\b[^>]*\?>")
+_DECLARED_ENCODING = re.compile(rb"^\s*<\?xml\b[^>]*?encoding\s*=\s*[\"']([A-Za-z0-9._-]{1,40})")
+
+
+def _encoding_of(data: bytes) -> tuple[str, int]:
+    """The encoding of an XMP packet and the length of its byte-order mark."""
+    for bom, name in _BOMS:
+        if data.startswith(bom):
+            return name, len(bom)
+    for first, name in _FIRST_BYTES:
+        if data.startswith(first):
+            return name, 0
+    head = data[:64]
+    if len(head) >= 4 and b"\x00" in head:  # UTF-16 after leading blanks: NULs in every pair
+        even, odd = head[0::2].count(0), head[1::2].count(0)
+        if even >= 2 * odd + 2:
+            return "utf-16-be", 0
+        if odd >= 2 * even + 2:
+            return "utf-16-le", 0
+    declared = _DECLARED_ENCODING.match(data[:200])
+    if declared:
+        name = declared.group(1).decode("ascii")
+        try:
+            codec = codecs.lookup(name).name
+        except LookupError:
+            raise InvalidValueError(f"XMP packet declares an unknown encoding {name!r}") from None
+        # The declaration was read as ASCII, so the bytes are not UTF-16/32 whatever it says.
+        return ("utf-8" if codec.startswith(("utf-16", "utf-32")) else codec), 0
+    return "utf-8", 0
+
+
+def _decode_packet(data: bytes | str) -> str:
+    """The text of an XMP packet, without BOM, XML declaration or NUL/blank padding."""
+    if isinstance(data, str):
+        text = data
+    else:
+        encoding, skip = _encoding_of(data)
+        data = data[skip:]
+        unit = 4 if "32" in encoding else 2 if "16" in encoding else 1
+        if unit > 1:  # drop NUL padding without cutting the last character
+            data = data.rstrip(b"\x00")
+            data += b"\x00" * (-len(data) % unit)
+        try:
+            text = data.decode(encoding)
+        except (UnicodeDecodeError, LookupError) as exc:
+            raise InvalidValueError(f"XMP packet is not valid {encoding} text: {exc}") from None
+    text = text.strip("\x00 \t\r\n\ufeff")
+    return _DECLARATION.sub("", text, count=1).strip()
+
+
+def _fromstring(data: bytes) -> ET.Element:
+    """Parse UTF-8 bytes as UTF-8, whatever encoding a declaration in them names."""
+    parser = ET.XMLParser(encoding="utf-8")
+    parser.feed(data)
+    return parser.close()
+
+
 def _parse_xml(data: bytes) -> ET.Element:
     try:
-        return ET.fromstring(data)
+        return _fromstring(data)
     except ET.ParseError as first_error:
         # Some writers pad the packet or put bytes around it: retry on the
         # <x:xmpmeta> ... </x:xmpmeta> element alone.
@@ -327,7 +407,7 @@ def _parse_xml(data: bytes) -> ET.Element:
         end = data.rfind(b"</x:xmpmeta>")
         if start >= 0 and end > start:
             try:
-                return ET.fromstring(data[start : end + len(b"</x:xmpmeta>")])
+                return _fromstring(data[start : end + len(b"</x:xmpmeta>")])
             except ET.ParseError:
                 pass
         raise InvalidValueError(f"XMP packet is not well-formed XML: {first_error}") from None
@@ -335,16 +415,22 @@ def _parse_xml(data: bytes) -> ET.Element:
 
 def _parse_int(name: str, text: str) -> int:
     text = text.strip()
-    try:
-        return int(text)
-    except ValueError:
-        pass
-    try:
-        value = float(text)
-    except ValueError:
-        value = float("nan")
-    if value != value or value != int(value):
-        raise InvalidValueError(f"GPano:{name} must be an integer, got {text!r}")
+    shown = repr(text) if len(text) <= _MAX_NUMBER_TEXT else f"a {len(text)}-character value"
+    value: int | float = math.nan
+    if len(text) <= _MAX_NUMBER_TEXT:
+        try:
+            value = int(text)
+        except ValueError:
+            try:
+                value = float(text)
+            except ValueError:
+                pass
+    if not math.isfinite(value) or value != int(value):
+        raise InvalidValueError(f"GPano:{name} must be an integer, got {shown}")
+    if not 0 <= value <= _MAX_GPANO_VALUE:
+        raise InvalidValueError(
+            f"GPano:{name} must be an integer from 0 to {_MAX_GPANO_VALUE}, got {shown}"
+        )
     return int(value)
 
 
@@ -367,7 +453,8 @@ def parse_gpano(xmp: bytes | str) -> GPano | None:
         An XMP packet (with or without the ``<?xpacket?>`` wrapper), as found
         in a PNG ``iTXt`` chunk, a JPEG APP1 segment, a WebP ``XMP`` chunk or
         TIFF tag 700. Bytes are taken as UTF-8 unless the packet declares
-        another encoding; trailing NUL padding is ignored.
+        another encoding (or starts with a UTF-16/UTF-32 byte-order mark or
+        its first bytes are UTF-16/UTF-32); NUL padding is ignored.
 
     Returns
     -------
@@ -381,8 +468,9 @@ def parse_gpano(xmp: bytes | str) -> GPano | None:
     InvalidTypeError
         If ``xmp`` is neither bytes nor str.
     InvalidValueError
-        If the packet is not well-formed XML, contains a DTD, or has GPano
-        values that are not integers or do not describe a valid placement.
+        If the packet is not text in its encoding, not well-formed XML,
+        contains a DTD (in any encoding), or has GPano values that are not
+        integers from 0 to ``2**31 - 1`` or do not describe a valid placement.
 
     Examples
     --------
@@ -409,18 +497,16 @@ def parse_gpano(xmp: bytes | str) -> GPano | None:
     >>> parse_gpano('<x:xmpmeta xmlns:x="adobe:ns:meta/"/>') is None
     True
     """
-    if isinstance(xmp, str):
-        data = xmp.encode("utf-8")
-    elif isinstance(xmp, (bytes, bytearray, memoryview)):
-        data = bytes(xmp)
-    else:
+    if isinstance(xmp, (bytes, bytearray, memoryview)):
+        xmp = bytes(xmp)
+    elif not isinstance(xmp, str):
         raise InvalidTypeError(f"xmp must be bytes or str, got {type(xmp).__name__}")
-    data = data.strip(b"\x00 \t\r\n")
-    if not data:
+    text = _decode_packet(xmp)
+    if not text:
         return None
-    if b"<!DOCTYPE" in data or b"<!ENTITY" in data:
+    if "<!DOCTYPE" in text or "<!ENTITY" in text:
         raise InvalidValueError("XMP packet contains a DTD (<!DOCTYPE or <!ENTITY), refused")
-    root = _parse_xml(data)
+    root = _parse_xml(text.encode("utf-8"))
 
     prefix = "{" + GPANO_NAMESPACE + "}"
     found: dict[str, str] = {}

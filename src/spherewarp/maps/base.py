@@ -320,17 +320,55 @@ def map_from_dict(data: dict[str, Any]) -> SphereMap:
         raise InvalidValueError(f"unknown map kind {kind!r}; expected one of: {allowed}") from None
     try:
         return cls._from_params(params)
-    except TypeError as exc:
-        raise InvalidValueError(f"bad parameters for map kind {kind!r}: {exc}") from None
+    except InvalidValueError:
+        raise
+    except KeyError as exc:
+        raise InvalidValueError(
+            f"bad parameters for map kind {kind!r}: missing field {exc.args[0]!r}"
+        ) from None
+    except RecursionError:
+        raise InvalidValueError(f"map kind {kind!r} is nested too deeply") from None
+    except (TypeError, ValueError, ArithmeticError, IndexError, AttributeError) as exc:
+        # Hostile values (huge or non-numeric numbers, wrong shapes) end here, not as
+        # plain exceptions: name the fields given, since the error may not.
+        fields = ", ".join(repr(k) for k in params) or "none"
+        message = " ".join(str(exc).split())[:200]
+        raise InvalidValueError(
+            f"bad parameters for map kind {kind!r} (fields {fields}): "
+            f"{type(exc).__name__}: {message}"
+        ) from None
 
 
 def map_from_json(text: str) -> SphereMap:
-    """Build a map from a JSON string (see :meth:`SphereMap.to_json`)."""
+    """Build a map from a JSON string (see :meth:`SphereMap.to_json`).
+
+    Any document that is not a valid map raises :class:`InvalidValueError`
+    (never a plain exception), and only the registered map kinds can be built.
+
+    Examples
+    --------
+    >>> map_from_json('{"kind": "droste"}')  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    spherewarp.errors.InvalidValueError: bad parameters for map kind 'droste': missing field ...
+    """
+    if not isinstance(text, (str, bytes, bytearray)):
+        raise InvalidValueError(f"expected a map as JSON text, got {type(text).__name__}")
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise InvalidValueError(f"expected a map as JSON, got invalid JSON: {exc}") from None
-    return map_from_dict(data)
+    except RecursionError:
+        raise InvalidValueError("expected a map as JSON, got one nested too deeply") from None
+    except (ValueError, UnicodeDecodeError):  # e.g. an integer of over 4300 digits
+        raise InvalidValueError(
+            "expected a map as JSON, got JSON that cannot be read (a number too long, "
+            "or text that is not UTF-8)"
+        ) from None
+    try:
+        return map_from_dict(data)
+    except RecursionError:
+        raise InvalidValueError("expected a map as JSON, got one nested too deeply") from None
 
 
 def vectorize_plane_function(

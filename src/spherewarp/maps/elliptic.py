@@ -72,6 +72,9 @@ ComplexArray = NDArray[np.complex128]
 OMEGA = cmath.exp(1j * math.pi / 3)
 #: largest |α|² a Lattès map may have
 MAX_LATTES_DEGREE = 64
+#: largest |α|² whose rational map the SVD fit recovers in double precision (measured on
+#: every α of both lattices: all fit up to 49, none of degree 57 and above, some of 50-52)
+MAX_FITTED_DEGREE = 49
 
 
 # -- lattice integers ----------------------------------------------------------------
@@ -304,7 +307,8 @@ class Lattes(SphereMap):
         A nonzero lattice element: a Gaussian integer (``"1+1j"``, ``"2"``,
         ``2+1j``) for the square lattice, an Eisenstein integer
         (``"1+w"``, ``"2-w"``, ``(1, 1)`` = 1 + ω) for the hexagonal one.
-        |α|² <= 64.
+        |α|² <= 64; with ``method="rational"`` |α|² <= 49, the degrees the fit
+        recovers (:data:`MAX_FITTED_DEGREE`).
     lattice : {"square", "hex"}
     method : {"rational", "exact"}
         ``"rational"`` (default) evaluates the rational map fitted by the
@@ -336,6 +340,12 @@ class Lattes(SphereMap):
         meth = str(method).strip().lower()
         if meth not in ("rational", "exact"):
             raise InvalidValueError(f"unknown method {method!r}; expected one of: rational, exact")
+        if meth == "rational" and deg > MAX_FITTED_DEGREE:
+            raise InvalidValueError(
+                f"the fitted rational map holds for |alpha|^2 <= {MAX_FITTED_DEGREE}, got {deg} "
+                f"for alpha = {_format_alpha(a, b, lat)}; use method='exact' (CLI: --exact) "
+                f"for degrees up to {MAX_LATTES_DEGREE}"
+            )
         self._lattice = lat
         self._ab = (a, b)
         self._alpha = lattice_integer(a, b, lat)
@@ -404,6 +414,8 @@ class Lattes(SphereMap):
         return sphere_from_plane(self._alpha * u, self._lattice)
 
     def local_scale(self, zw: ComplexArray) -> NDArray[np.float64]:
+        if self._degree > MAX_FITTED_DEGREE:  # no fit to differentiate: finite differences
+            return super().local_scale(zw)
         return self.rational().local_scale(zw)
 
     def kernel_stages(self) -> tuple[tuple[str, NDArray[np.float64]], ...] | None:

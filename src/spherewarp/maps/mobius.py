@@ -154,9 +154,11 @@ class Mobius(SphereMap):
             m = m / scale  # complex division of subnormals can overflow: checked below
         det = m[0, 0] * m[1, 1] - m[0, 1] * m[1, 0]
         if not np.all(np.isfinite(m)) or not abs(det) >= 1e-13:
+            # Scale-free (the matrix is projective) and bounded, so it cannot overflow.
+            rel = abs(det) if np.isfinite(det) else 0.0
             raise InvalidValueError(
-                f"expected an invertible matrix (ad - bc != 0), got a singular one "
-                f"(|det| = {abs(det) * scale**2:.3g})"
+                "expected an invertible matrix (ad - bc != 0), got one that is singular in "
+                f"double precision (|ad - bc| / max|entry|^2 = {rel:.3g}, below 1e-13)"
             )
         m = m / np.sqrt(det)
         m.flags.writeable = False

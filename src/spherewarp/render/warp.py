@@ -269,7 +269,9 @@ def warp(
             f"expected output_shape as (height, width), got {output_shape!r}"
         ) from None
     if h_out < 1 or w_out < 1 or h_out * w_out > 1 << 30:
-        raise InvalidValueError(f"expected a positive output shape, got {output_shape!r}")
+        raise InvalidValueError(
+            f"expected a positive output shape of at most 2**30 pixels, got {output_shape!r}"
+        )
 
     dtype = images[0].dtype
     has_alpha = channels in (2, 4)
