@@ -562,7 +562,7 @@ def _unidentified(p: Path, data: bytes) -> ImageFormatError:
 
 
 _RAISE_LIMIT = f"if the file is trusted, raise the limit with --max-pixels or {MAX_PIXELS_ENV}"
-_RAISE_LIMIT_PY = f"if the file is trusted, pass a larger max_pixels= or set {MAX_PIXELS_ENV}"
+_RAISE_LIMIT_PY = _RAISE_LIMIT + " (Python: max_pixels=)"
 
 
 def _check_size(
