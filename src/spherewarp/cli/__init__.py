@@ -20,6 +20,7 @@ from typing import Any
 
 import click
 
+from .. import _compile_notice
 from ..errors import SpherewarpError
 
 __all__ = ["cli", "main", "COMMANDS"]
@@ -95,6 +96,7 @@ def _one_line(text: str) -> str:
 def main(argv: list[str] | None = None) -> Any:
     """Run the command line; never lets a traceback reach the user for bad input."""
     prog = "spherewarp"
+    _compile_notice.enable(sys.stderr)  # one line, not a silent minute, if numba compiles
     try:
         return cli.main(args=argv, prog_name=prog, standalone_mode=False)
     except click.exceptions.Exit as exc:
