@@ -150,9 +150,7 @@ def run(stream: TextIO | None = None) -> dict[str, int]:
 
 def main() -> int:
     """``python -m spherewarp.render._warmup``: compile (or load) every kernel once."""
-    from .. import _compile_notice
-
-    _compile_notice.enable(sys.stderr)
+    print("spherewarp: loading the kernels, compiling what the cache lacks ...", file=sys.stderr)
     counts = run(sys.stderr)
     missing = [name for name, n in counts.items() if n == 0]
     if missing:
