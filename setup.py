@@ -70,6 +70,9 @@ class BuildPyWarm(build_py):
             root = Path(self.get_package_dir("spherewarp")).resolve().parent
         else:
             root = Path(self.build_lib).resolve()
+            # a build directory kept from an earlier build holds the cache of older sources
+            for stale in (root / "spherewarp" / "render" / "__pycache__").glob("*.nb[ic]"):
+                stale.unlink()
         if (root / "spherewarp" / "render" / "_warmup.py").is_file():
             warm_up(root)
 

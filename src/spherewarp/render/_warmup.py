@@ -152,6 +152,8 @@ def main() -> int:
     """``python -m spherewarp.render._warmup``: compile (or load) every kernel once."""
     print("spherewarp: loading the kernels, compiling what the cache lacks ...", file=sys.stderr)
     counts = run(sys.stderr)
+    if not counts:  # no numba here (or SPHEREWARP_NO_JIT): nothing was compiled
+        return 1
     missing = [name for name, n in counts.items() if n == 0]
     if missing:
         print(f"spherewarp: not compiled: {', '.join(missing)}", file=sys.stderr)
