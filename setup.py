@@ -66,15 +66,18 @@ class BuildPyWarm(build_py):
         super().run()
         if os.environ.get("SPHEREWARP_NO_WARMUP", "").strip() not in ("", "0"):
             return
-        if getattr(self, "editable_mode", False):  # the package is imported from the sources
-            root = Path(self.get_package_dir("spherewarp")).resolve().parent
-        else:
-            root = Path(self.build_lib).resolve()
-            # a build directory kept from an earlier build holds the cache of older sources
-            for stale in (root / "spherewarp" / "render" / "__pycache__").glob("*.nb[ic]"):
-                stale.unlink()
-        if (root / "spherewarp" / "render" / "_warmup.py").is_file():
-            warm_up(root)
+        try:
+            if getattr(self, "editable_mode", False):  # imported from the sources
+                root = Path(self.get_package_dir("spherewarp")).resolve().parent
+            else:
+                root = Path(self.build_lib).resolve()
+                # a build directory kept from an earlier build holds the cache of older sources
+                for stale in (root / "spherewarp" / "render" / "__pycache__").glob("*.nb[ic]"):
+                    stale.unlink()
+            if (root / "spherewarp" / "render" / "_warmup.py").is_file():
+                warm_up(root)
+        except Exception as exc:  # never fail the install: the kernels compile on first use
+            print(f"WARNING: spherewarp: no build-time compilation ({exc})", file=sys.stderr)
 
 
 setup(cmdclass={"build_py": BuildPyWarm})
