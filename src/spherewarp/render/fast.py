@@ -116,6 +116,9 @@ def _kernels() -> Any:
         return None
     if "kernels" not in _STATE:
         try:
+            from .. import _compile_notice
+
+            _compile_notice.install()  # before the first compilation, if any
             from . import _kernels as k
         except Exception:  # ImportError, or a numba that does not fit this NumPy
             k = None
