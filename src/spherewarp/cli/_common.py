@@ -427,6 +427,10 @@ def render_options(func: Callable) -> Callable:
             quiet=kwargs.pop("quiet"),
             max_pixels=kwargs.pop("max_pixels"),
         )
+        if render.quiet:
+            from .._compile_notice import disable
+
+            disable()  # --quiet: no compile notice either
         return func(render=render, **kwargs)
 
     wrapper.__name__ = func.__name__
