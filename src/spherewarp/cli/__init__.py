@@ -7,8 +7,9 @@ fast.
 
 Any :class:`~spherewarp.errors.SpherewarpError`, unreadable file or bad
 option becomes one line on stderr (``spherewarp: error: ...``) and exit
-status 2 (1 for an unexpected internal error, 130 when interrupted); a
-traceback is a bug.
+status 2 (1 for an unexpected internal error, 130 when interrupted by SIGINT,
+143 by SIGTERM, leaving no partial output and no temporary file); a traceback
+is a bug.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from typing import Any
 
 import click
 
+from .. import _signals
 from ..errors import SpherewarpError
 
 __all__ = ["cli", "main", "COMMANDS"]
@@ -52,11 +54,25 @@ class _Interrupted(Exception):
 class LazyGroup(click.Group):
     """A click group that imports a subcommand's module only when it is used."""
 
+    def make_context(self, *args: Any, **kwargs: Any) -> click.Context:
+        try:
+            return super().make_context(*args, **kwargs)
+        except KeyboardInterrupt:
+            raise _Interrupted from None
+
     def invoke(self, ctx: click.Context) -> Any:
+        from ._files import new_job
+
+        new_job()
         try:
             return super().invoke(ctx)
         except KeyboardInterrupt:
             raise _Interrupted from None
+
+    def resolve_command(self, ctx: click.Context, args: list[str]) -> Any:
+        found = super().resolve_command(ctx, args)
+        _signals.check()  # an interrupt swallowed while importing the command: stop now
+        return found
 
     def list_commands(self, ctx: click.Context) -> list[str]:
         return sorted(COMMANDS)
@@ -92,38 +108,58 @@ def _one_line(text: str) -> str:
     return " ".join(str(text).split())
 
 
-def main(argv: list[str] | None = None) -> Any:
-    """Run the command line; never lets a traceback reach the user for bad input."""
-    prog = "spherewarp"
-    try:
-        return cli.main(args=argv, prog_name=prog, standalone_mode=False)
-    except click.exceptions.Exit as exc:
-        sys.exit(exc.exit_code)
-    except click.exceptions.Abort:
-        click.echo(f"{prog}: interrupted", err=True)
-        sys.exit(130)
-    except click.ClickException as exc:
+def error_line(exc: BaseException, prog: str = "spherewarp") -> tuple[str, int] | None:
+    """The one line and exit status for an error a user can fix, or None for another exception."""
+    if isinstance(exc, click.ClickException):
         where = ""
         ctx = getattr(exc, "ctx", None)
         if ctx is not None and ctx.command_path:
             where = f" (see '{ctx.command_path} --help')"
-        click.echo(f"{prog}: error: {_one_line(exc.format_message())}{where}", err=True)
-        sys.exit(exc.exit_code if exc.exit_code else 2)
-    except SpherewarpError as exc:
-        click.echo(f"{prog}: error: {_one_line(exc)}", err=True)
-        sys.exit(2)
-    except (KeyboardInterrupt, _Interrupted):
-        click.echo(f"{prog}: interrupted (no partially written file is left)", err=True)
-        sys.exit(130)
-    except OSError as exc:
+        return f"{prog}: error: {_one_line(exc.format_message())}{where}", exc.exit_code or 2
+    if isinstance(exc, SpherewarpError):
+        return f"{prog}: error: {_one_line(exc)}", 2
+    if isinstance(exc, OSError):
         name = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
-        click.echo(f"{prog}: error:{name} {_one_line(exc.strerror or exc)}", err=True)
-        sys.exit(2)
-    except MemoryError:
-        click.echo(f"{prog}: error: out of memory (try a smaller --size)", err=True)
-        sys.exit(2)
-    except Exception as exc:  # an internal bug: say so in one line, traceback on request
-        if os.environ.get("SPHEREWARP_DEBUG"):
+        return f"{prog}: error:{name} {_one_line(exc.strerror or exc)}", 2
+    if isinstance(exc, MemoryError):
+        return f"{prog}: error: out of memory (try a smaller --size)", 2
+    return None
+
+
+def main(argv: list[str] | None = None) -> Any:
+    """Run the command line; never lets a traceback reach the user for bad input.
+
+    SIGINT and SIGTERM unwind the command (removing any temporary file) and
+    exit with status 130 and 143.
+    """
+    previous = _signals.install()
+    try:
+        return _main(argv)
+    finally:
+        _signals.restore(previous)
+
+
+def _main(argv: list[str] | None) -> Any:
+    prog = "spherewarp"
+    try:
+        result = cli.main(args=argv, prog_name=prog, standalone_mode=False)
+        _signals.check()  # a stop that something swallowed on the way
+        return result
+    except click.exceptions.Exit as exc:
+        sys.exit(exc.exit_code)
+    except (KeyboardInterrupt, _Interrupted, _signals.Terminated, click.exceptions.Abort) as exc:
+        atomic = sys.modules.get("spherewarp.io.atomic")
+        if atomic is not None:
+            atomic.remove_live()
+        code, word = _signals.exit_status(exc)
+        click.echo(f"{prog}: {word} (no partially written file is left)", err=True)
+        sys.exit(code)
+    except Exception as exc:
+        report = error_line(exc, prog)
+        if report is not None:
+            click.echo(report[0], err=True)
+            sys.exit(report[1])
+        if os.environ.get("SPHEREWARP_DEBUG"):  # an internal bug: one line, traceback on request
             raise
         click.echo(
             f"{prog}: internal error: {type(exc).__name__}: {_one_line(exc)} "
