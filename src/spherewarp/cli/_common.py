@@ -16,6 +16,7 @@ Values are parsed by click types that raise one-line errors naming the option.
 
 from __future__ import annotations
 
+import functools
 import os
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -38,7 +39,9 @@ __all__ = [
     "render_options",
     "load_input",
     "save_output",
+    "output_name",
     "output_path",
+    "run_inputs",
 ]
 
 
@@ -210,6 +213,8 @@ class RenderOptions:
     quality: int
     antialias: str | int = "auto"
     threads: int | None = None
+    #: ``-o`` names a directory (an existing one, or a path ending in '/'): outputs go into it
+    output_dir: bool = False
 
     def warp_kwargs(self, pixels: Any) -> dict[str, Any]:
         """Keyword arguments for :func:`spherewarp.warp`."""
@@ -225,11 +230,81 @@ class RenderOptions:
         return kwargs
 
 
-def input_argument(func: Callable) -> Callable:
-    """The ``INPUT`` image argument."""
-    return click.argument(
-        "input", type=click.Path(dir_okay=False, path_type=Path), metavar="INPUT"
-    )(func)
+def input_argument(func: Callable | None = None, *, required: bool = True) -> Callable:
+    """The ``INPUT...`` argument: one image, or several processed one after the other.
+
+    The command function still receives one ``input`` (None when the argument
+    is optional and missing) and is called once for each. With several inputs,
+    ``-o`` must name a directory (or be left out); each input's output gets the
+    name it would get on its own. An input that fails (unreadable, its output
+    exists, ...) reports its one error line and the batch goes on; the command
+    then exits with status 2. A usage error stops the batch.
+    """
+
+    def decorate(func: Callable) -> Callable:
+        @functools.wraps(func)
+        def each_input(input: tuple[Path, ...], **kwargs: Any) -> None:
+            run_inputs(func, input, kwargs)
+
+        each_input.__doc__ = (func.__doc__ or "").rstrip() + _BATCH_HELP
+        return click.argument(
+            "input",
+            nargs=-1,
+            required=required,
+            type=click.Path(dir_okay=False, path_type=Path),
+            metavar="INPUT..." if required else "[INPUT...]",
+        )(each_input)
+
+    return decorate if func is None else decorate(func)
+
+
+_BATCH_HELP = """
+
+    Several INPUTs are processed one after the other in one run: -o DIR/ puts
+    each output into DIR under the name it would get on its own;
+    an input that fails says why in one line, the others go on, and the exit
+    status is then 2. No output may be an input (checked before any work).
+    """
+
+
+def _names_directory(output: str | None) -> bool:
+    return output is not None and (output.endswith(("/", os.sep)) or os.path.isdir(output))
+
+
+def run_inputs(func: Callable, inputs: tuple[Path, ...], kwargs: dict[str, Any]) -> None:
+    """Call ``func(input=..., **kwargs)`` for each input, each with a fresh
+    :class:`~spherewarp.cli._files.Job` that also knows the batch's other inputs and the
+    outputs written so far (so no input is overwritten and no output written twice)."""
+    from ..errors import SpherewarpError
+    from . import error_line
+    from ._files import Job, new_job
+
+    if not inputs:
+        new_job()
+        func(input=None, **kwargs)
+        return
+    output = kwargs.get("output")
+    if len(inputs) > 1 and output is not None and not _names_directory(output):
+        raise click.UsageError(
+            f"-o {output!r}: several inputs need -o DIR/ (a directory, made if missing) or no -o"
+        )
+    reads = tuple((p, "input") for p in inputs)
+    if len(inputs) == 1:
+        new_job(Job(reads=reads))
+        func(input=inputs[0], **kwargs)
+        return
+    written: list[tuple[Path, str]] = []
+    failed = 0
+    for path in inputs:
+        job = new_job(Job(reads=reads, writes=tuple(written)))
+        try:
+            func(input=path, **kwargs)
+        except (SpherewarpError, OSError, MemoryError) as exc:
+            click.echo(error_line(exc)[0], err=True)  # type: ignore[index]
+            failed += 1
+        written += [(p, f"input {str(path)!r}") for p, _ in job.written]
+    if failed:
+        raise SpherewarpError(f"{failed} of {len(inputs)} inputs failed (each said why above)")
 
 
 def render_options(func: Callable) -> Callable:
@@ -240,9 +315,10 @@ def render_options(func: Callable) -> Callable:
         click.option(
             "-o",
             "--output",
-            type=click.Path(dir_okay=False, path_type=Path),
-            help="Output file; its extension picks the format. "
-            "Default: INPUT's name with the command appended, in the current directory.",
+            type=click.Path(path_type=str),
+            help="Output file; its extension picks the format. Default: INPUT's name with the "
+            "command appended (in.jpg -> in-COMMAND.jpg), in the current directory; -o DIR/ "
+            "(an existing directory or a name ending in /) puts that name into DIR.",
         ),
         click.option("--overwrite", is_flag=True, help="Replace an existing output file."),
         click.option(
@@ -288,8 +364,10 @@ def render_options(func: Callable) -> Callable:
     ]
 
     def wrapper(**kwargs: Any) -> Any:
+        output = kwargs.pop("output")
         render = RenderOptions(
-            output=kwargs.pop("output"),
+            output=None if output is None else Path(output),
+            output_dir=_names_directory(output),
             overwrite=kwargs.pop("overwrite"),
             force=kwargs.pop("force"),
             size=kwargs.pop("size"),
@@ -310,33 +388,50 @@ def render_options(func: Callable) -> Callable:
     return wrapper
 
 
-def load_input(path: Path, render: RenderOptions | None = None) -> Any:
-    """Read an input image (``ImageData``), refusing a non-2:1 one unless ``--force``."""
+def load_input(path: Path, render: RenderOptions | None = None, label: str = "input") -> Any:
+    """Read an input image (``ImageData``), refusing a non-2:1 one unless ``--force``.
+
+    The path is registered as read (``label`` names it in an error), so no output may be it.
+    """
     from ..io import read_image
     from ..render.warp import check_equirect
+    from ._files import job
 
+    job().reads(path, label)
     data = read_image(path)
     check_equirect(data.pixels, force=bool(render and render.force), name=str(path))
     return data
 
 
-def output_path(render: RenderOptions, input_path: Path | None, command: str) -> Path:
-    """Where to write: ``-o``, or ``<input stem>-<command><input suffix>`` in the cwd."""
-    if render.output is not None:
-        out = render.output
-    elif input_path is not None:
-        out = Path(f"{input_path.stem}-{command}{input_path.suffix}")
-    else:
-        out = Path(f"{command}.png")
+def output_name(render: RenderOptions, input_path: Path | None, command: str) -> Path:
+    """The output's name: ``-o``, else ``<input stem>-<command><input suffix>``, in the cwd or
+    in the ``-o DIR/`` directory."""
+    if render.output is not None and not render.output_dir:
+        return render.output
     if input_path is not None:
-        same = out.resolve() == input_path.resolve()
-        if not same and out.exists() and input_path.exists():
-            same = os.path.samefile(out, input_path)
-        if same:
-            raise InvalidValueError(
-                f"the output {str(out)!r} is the input file; choose another -o (inputs are "
-                "never overwritten)"
-            )
+        name = f"{input_path.stem}-{command}{input_path.suffix}"
+    else:
+        name = f"{command}.png"
+    return render.output / name if render.output is not None else Path(name)
+
+
+def output_path(
+    render: RenderOptions,
+    input_path: Path | None,
+    command: str,
+    option: str = "-o",
+    given: str | None = None,
+) -> Path:
+    """Where to write (:func:`output_name`), registered as written; refuses an input (any link
+    to one included, even with ``--overwrite``) and an existing file without ``--overwrite``.
+
+    ``option`` and ``given`` (what the user typed, e.g. a frame pattern) name it in an error.
+    """
+    from ._files import job
+
+    out = job().writes(output_name(render, input_path, command), option, given)
+    if render.output_dir and render.output is not None:
+        render.output.mkdir(parents=True, exist_ok=True)
     if out.exists() and not render.overwrite:
         raise OutputExistsError(f"{str(out)!r} exists; pass --overwrite to replace it")
     return out

@@ -8,7 +8,7 @@ from typing import Any
 
 import click
 
-from ._common import SIZE, example, input_argument
+from ._common import SIZE, example
 
 __all__ = ["testpattern", "info", "demo"]
 
@@ -73,8 +73,10 @@ def testpattern(
     from ..errors import InvalidValueError, OutputExistsError
     from ..io import write_image
     from ..testpattern import make_test_pattern
+    from ._files import job
     from .mobius_cmds import check_output_suffix
 
+    job().writes(output, "-o")
     if output.exists() and not overwrite:
         raise OutputExistsError(f"'{output}' exists; pass --overwrite to replace it")
     check_output_suffix(output)
@@ -203,7 +205,7 @@ def _format_info(info: dict[str, Any]) -> str:
 
 
 @click.command(epilog=example("spherewarp info room.jpg", "spherewarp info room.exr --json"))
-@input_argument
+@click.argument("input", type=click.Path(dir_okay=False, path_type=Path), metavar="INPUT")
 @click.option("--json", "as_json", is_flag=True, help="Print the information as JSON.")
 def info(input: Path, as_json: bool) -> None:
     """Describe an image: size, sample type, channels, 360° metadata, colour profile."""
