@@ -8,6 +8,10 @@ a library that swallows the exception (a bare ``except:`` round an optional
 import) cannot make it go away, since :func:`check` raises it again, and the
 atomic writer calls :func:`check` before it puts a file in place.
 
+An interrupt that arrives while Python code runs as a C callback (numba's
+kernel cache, through llvmlite and ctypes) or in ``__del__`` is not raised
+there (Python would print it and drop it): SIGALRM raises it 20 ms later.
+
 The library itself never installs handlers; only ``spherewarp.cli.main`` does.
 """
 
@@ -31,9 +35,31 @@ def _exception(signum: int) -> BaseException:
     return KeyboardInterrupt() if signum == signal.SIGINT else Terminated()
 
 
+#: top-level packages whose Python code runs as C callbacks (llvmlite's object cache, during
+#: numba's kernel loading): an exception raised there is printed and dropped by Python
+_CALLBACK_PACKAGES = ("llvmlite", "numba", "ctypes")
+_RETRY_S = 0.02
+
+
+def _raise_unless_in_callback(frame: Any) -> None:
+    name = str(frame.f_globals.get("__name__", "")) if frame is not None else ""
+    in_callback = name.split(".")[0] in _CALLBACK_PACKAGES
+    if frame is not None and frame.f_code.co_name in ("__del__", "__set_name__"):
+        in_callback = True
+    if in_callback and hasattr(signal, "setitimer"):
+        signal.setitimer(signal.ITIMER_REAL, _RETRY_S)  # raise it a moment later, elsewhere
+        return
+    raise _exception(_REQUESTS[0])
+
+
 def _handler(signum: int, frame: Any) -> None:
     _REQUESTS.append(signum)
-    raise _exception(signum)
+    _raise_unless_in_callback(frame)
+
+
+def _retry(signum: int, frame: Any) -> None:
+    if _REQUESTS:
+        _raise_unless_in_callback(frame)
 
 
 def install() -> dict[int, Any]:
@@ -42,9 +68,12 @@ def install() -> dict[int, Any]:
     Does nothing outside the main thread (where handlers cannot be set).
     """
     previous: dict[int, Any] = {}
-    for signum in (signal.SIGINT, signal.SIGTERM):
+    handlers = {signal.SIGINT: _handler, signal.SIGTERM: _handler}
+    if hasattr(signal, "SIGALRM"):
+        handlers[signal.SIGALRM] = _retry
+    for signum, handler in handlers.items():
         try:
-            previous[signum] = signal.signal(signum, _handler)
+            previous[signum] = signal.signal(signum, handler)
         except (ValueError, OSError):  # not the main thread, or not settable here
             pass
     return previous

@@ -61,10 +61,10 @@ class LazyGroup(click.Group):
             raise _Interrupted from None
 
     def invoke(self, ctx: click.Context) -> Any:
-        from ._files import new_job
-
-        new_job()
         try:
+            from ._files import new_job
+
+            new_job()
             return super().invoke(ctx)
         except KeyboardInterrupt:
             raise _Interrupted from None
@@ -139,6 +139,16 @@ def main(argv: list[str] | None = None) -> Any:
         _signals.restore(previous)
 
 
+def _stop(exc: BaseException, prog: str) -> None:
+    """Exit after an interrupt: remove any temporary file left, say so in one line."""
+    atomic = sys.modules.get("spherewarp.io.atomic")
+    if atomic is not None:
+        atomic.remove_live()
+    code, word = _signals.exit_status(exc)
+    click.echo(f"{prog}: {word} (no partially written file is left)", err=True)
+    sys.exit(code)
+
+
 def _main(argv: list[str] | None) -> Any:
     prog = "spherewarp"
     try:
@@ -148,13 +158,10 @@ def _main(argv: list[str] | None) -> Any:
     except click.exceptions.Exit as exc:
         sys.exit(exc.exit_code)
     except (KeyboardInterrupt, _Interrupted, _signals.Terminated, click.exceptions.Abort) as exc:
-        atomic = sys.modules.get("spherewarp.io.atomic")
-        if atomic is not None:
-            atomic.remove_live()
-        code, word = _signals.exit_status(exc)
-        click.echo(f"{prog}: {word} (no partially written file is left)", err=True)
-        sys.exit(code)
+        _stop(exc, prog)
     except Exception as exc:
+        if _signals.requested() is not None:  # e.g. wrapped by Python into a RuntimeError
+            _stop(exc, prog)
         report = error_line(exc, prog)
         if report is not None:
             click.echo(report[0], err=True)

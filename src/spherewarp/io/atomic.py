@@ -60,9 +60,28 @@ def temp_name(path: Path, pid: int | None = None) -> str:
     return f".{path.name[:100]}.spherewarp-{pid}-{secrets.token_hex(4)}.tmp{path.suffix}"
 
 
-def _pattern(path: Path) -> re.Pattern[str]:
-    name, suffix = re.escape(path.name[:100]), re.escape(path.suffix)
-    return re.compile(rf"\.{name}\.spherewarp-(\d+)-[0-9a-f]{{8}}\.tmp{suffix}")
+_TEMP = re.compile(r"\.(.+)\.spherewarp-(\d+)-[0-9a-f]{8}\.tmp(.*)")
+
+#: directory -> {target name: temporary file names}, listed once per directory and process
+#: (writing many frames into one directory must not list it once a frame)
+_SCANNED: dict[str, dict[str, list[str]]] = {}
+
+
+def _candidates(directory: Path) -> dict[str, list[str]]:
+    key = os.path.realpath(directory)
+    found = _SCANNED.get(key)
+    if found is None:
+        found = {}
+        try:
+            names = os.listdir(directory)
+        except OSError:
+            names = []
+        for name in names:
+            m = _TEMP.fullmatch(name)
+            if m is not None:
+                found.setdefault(m.group(1), []).append(name)
+        _SCANNED[key] = found
+    return found
 
 
 def _alive(pid: int) -> bool:
@@ -86,18 +105,11 @@ def remove_stale(path: Path) -> list[Path]:
     if os.name != "posix":
         return []
     path = Path(path)
-    pattern = _pattern(path)
     removed = []
-    try:
-        names = os.listdir(path.parent if str(path.parent) else ".")
-    except OSError:
-        return []
-    for name in names:
-        m = pattern.fullmatch(name)
-        if m is None:
-            continue
+    for name in _candidates(path.parent).pop(path.name[:100], []):
+        m = _TEMP.fullmatch(name)
         stale = path.parent / name
-        if stale in _LIVE or _alive(int(m.group(1))):
+        if m is None or m.group(3) != path.suffix or stale in _LIVE or _alive(int(m.group(2))):
             continue
         with contextlib.suppress(OSError):
             stale.unlink()
@@ -118,13 +130,15 @@ def _make_temp(path: Path) -> Path:
     flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
     for _ in range(100):
         tmp = path.parent / temp_name(path)
-        _LIVE.add(tmp)  # before it exists: an interrupt in between still finds it
+        # registered before it exists and left registered on an interrupt (which may come
+        # just after the file is made): remove_live() then finds it
+        _LIVE.add(tmp)
         try:
             fd = os.open(tmp, flags, 0o666)
         except FileExistsError:
             _LIVE.discard(tmp)
             continue
-        except BaseException:
+        except OSError:
             _LIVE.discard(tmp)
             raise
         os.close(fd)

@@ -1185,7 +1185,6 @@ def write_image(
         raise
     except Exception as exc:
         raise ImageFormatError(
-            f"cannot write '{p}': {fmt} encoding or writing failed "
-            f"({type(exc).__name__}: {exc})"
+            f"cannot write '{p}': {fmt} encoding or writing failed ({type(exc).__name__}: {exc})"
         ) from exc
     return p
