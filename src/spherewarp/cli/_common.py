@@ -275,6 +275,7 @@ def run_inputs(func: Callable, inputs: tuple[Path, ...], kwargs: dict[str, Any])
     """Call ``func(input=..., **kwargs)`` for each input, each with a fresh
     :class:`~spherewarp.cli._files.Job` that also knows the batch's other inputs and the
     outputs written so far (so no input is overwritten and no output written twice)."""
+    from .. import _signals
     from ..errors import SpherewarpError
     from . import error_line
     from ._files import Job, new_job
@@ -300,6 +301,8 @@ def run_inputs(func: Callable, inputs: tuple[Path, ...], kwargs: dict[str, Any])
         try:
             func(input=path, **kwargs)
         except (SpherewarpError, OSError, MemoryError) as exc:
+            if _signals.requested() is not None:
+                raise  # interrupted: stop the batch
             click.echo(error_line(exc)[0], err=True)  # type: ignore[index]
             failed += 1
         written += [(p, f"input {str(path)!r}") for p, _ in job.written]
