@@ -24,6 +24,8 @@ __all__ = ["Terminated", "install", "restore", "ignore", "check", "requested", "
 
 #: signal numbers received since :func:`install`
 _REQUESTS: list[int] = []
+#: whether the retry timer (SIGALRM, see below) is armed by us, and so ours to cancel
+_ARMED = [False]
 
 
 class Terminated(BaseException):
@@ -35,9 +37,10 @@ def _exception(signum: int) -> BaseException:
     return KeyboardInterrupt() if signum == signal.SIGINT else Terminated()
 
 
-#: top-level packages whose Python code runs as C callbacks (llvmlite's object cache, during
-#: numba's kernel loading): an exception raised there is printed and dropped by Python
-_CALLBACK_PACKAGES = ("llvmlite", "numba", "ctypes")
+#: top-level packages whose Python code runs as callbacks from C (llvmlite's object cache,
+#: during numba's kernel loading; the import system's weakref callbacks): an exception raised
+#: there is printed and dropped by Python
+_CALLBACK_PACKAGES = ("llvmlite", "numba", "ctypes", "importlib", "_frozen_importlib", "weakref")
 _RETRY_S = 0.02
 
 
@@ -48,6 +51,7 @@ def _raise_unless_in_callback(frame: Any) -> None:
         in_callback = True
     if in_callback and hasattr(signal, "setitimer"):
         signal.setitimer(signal.ITIMER_REAL, _RETRY_S)  # raise it a moment later, elsewhere
+        _ARMED[0] = True
         return
     raise _exception(_REQUESTS[0])
 
@@ -79,8 +83,18 @@ def install() -> dict[int, Any]:
     return previous
 
 
+def _cancel_retry() -> None:
+    if _ARMED[0] and hasattr(signal, "setitimer"):
+        _ARMED[0] = False
+        try:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+        except (ValueError, OSError):
+            pass
+
+
 def restore(previous: dict[int, Any]) -> None:
     """Put back the handlers :func:`install` replaced and forget the requests."""
+    _cancel_retry()
     for signum, handler in previous.items():
         try:
             signal.signal(signum, handler)
@@ -110,6 +124,7 @@ def exit_status(exc: BaseException) -> tuple[int, str]:
 
 def ignore() -> None:
     """Ignore SIGINT and SIGTERM from now on (the process is about to exit)."""
+    _cancel_retry()
     for signum in (signal.SIGINT, signal.SIGTERM):
         try:
             signal.signal(signum, signal.SIG_IGN)
