@@ -40,6 +40,7 @@ CASES: dict[str, tuple[list[str], list[str]]] = {
     "droste-log": (["droste", "{a}", *CENTER, "--view", "log"], ["a"]),
     "lattes": (["lattes", "{a}", "--alpha", "1+1j"], ["a"]),
     "peirce": (["peirce", "{a}"], ["a"]),
+    "peirce-inverse": (["peirce", "{a}", "--inverse"], ["a"]),
     "torus": (["torus", "{a}"], ["a"]),
 }
 
