@@ -349,6 +349,7 @@ def write_torus_obj(
     ['t.obj', 't.mtl', 't_texture.png']
     """
     from .io import write_image
+    from .io.atomic import write_text
 
     obj = Path(obj_path)
     if obj.suffix.lower() != ".obj":
@@ -390,16 +391,6 @@ def write_torus_obj(
             "",
         ]
     )
-    _atomic_write_text(mtl, material)
-    _atomic_write_text(obj, "\n".join(lines) + "\n")
+    write_text(mtl, material, overwrite=overwrite)
+    write_text(obj, "\n".join(lines) + "\n", overwrite=overwrite)
     return obj, mtl, png
-
-
-def _atomic_write_text(path: Path, text: str) -> None:
-    tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
-    try:
-        tmp.write_text(text, encoding="utf-8")
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()

@@ -327,13 +327,13 @@ def test_interrupted_render_leaves_nothing(capsys, workdir, good_png, monkeypatc
 
 
 def test_interrupted_write_leaves_no_temp_file(capsys, workdir, good_png, monkeypatch):
-    import spherewarp.io.images as images
+    import spherewarp.io.atomic as atomic
 
     def interrupted(path):
         assert Path(path).exists()  # the temporary file exists at this point
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(images, "_fsync", interrupted)
+    monkeypatch.setattr(atomic, "_fsync", interrupted)
     err = fails(
         capsys,
         workdir,

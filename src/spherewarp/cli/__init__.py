@@ -7,8 +7,9 @@ fast.
 
 Any :class:`~spherewarp.errors.SpherewarpError`, unreadable file or bad
 option becomes one line on stderr (``spherewarp: error: ...``) and exit
-status 2 (1 for an unexpected internal error, 130 when interrupted); a
-traceback is a bug.
+status 2 (1 for an unexpected internal error, 130 when interrupted by SIGINT,
+143 by SIGTERM, leaving no partial output and no temporary file); a traceback
+is a bug.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from typing import Any
 
 import click
 
-from .. import _compile_notice
+from .. import _compile_notice, _signals
 from ..errors import SpherewarpError
 
 __all__ = ["cli", "main", "run", "COMMANDS"]
@@ -54,8 +55,17 @@ class _Interrupted(Exception):
 class LazyGroup(click.Group):
     """A click group that imports a subcommand's module only when it is used."""
 
+    def make_context(self, *args: Any, **kwargs: Any) -> click.Context:
+        try:
+            return super().make_context(*args, **kwargs)
+        except KeyboardInterrupt:
+            raise _Interrupted from None
+
     def invoke(self, ctx: click.Context) -> Any:
         try:
+            from ._files import new_job
+
+            new_job()
             return super().invoke(ctx)
         except KeyboardInterrupt:
             raise _Interrupted from None
@@ -63,6 +73,11 @@ class LazyGroup(click.Group):
             bars = sys.modules.get(f"{__name__}._progress")
             if bars is not None:
                 bars.close_all()
+
+    def resolve_command(self, ctx: click.Context, args: list[str]) -> Any:
+        found = super().resolve_command(ctx, args)
+        _signals.check()  # an interrupt swallowed while importing the command: stop now
+        return found
 
     def list_commands(self, ctx: click.Context) -> list[str]:
         return sorted(COMMANDS)
@@ -103,48 +118,69 @@ def _show_warning(message: Any, category: Any, *args: Any, **kwargs: Any) -> Non
     click.echo(f"spherewarp: warning: {_one_line(message)}", err=True)
 
 
+def error_line(exc: BaseException, prog: str = "spherewarp") -> tuple[str, int] | None:
+    """The one line and exit status for an error a user can fix, or None for another exception."""
+    if isinstance(exc, click.ClickException):
+        where = ""
+        ctx = getattr(exc, "ctx", None)
+        if ctx is not None and ctx.command_path:
+            where = f" (see '{ctx.command_path} --help')"
+        return f"{prog}: error: {_one_line(exc.format_message())}{where}", exc.exit_code or 2
+    if isinstance(exc, SpherewarpError):
+        return f"{prog}: error: {_one_line(exc.cli_message)}", 2
+    if isinstance(exc, OSError):
+        name = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
+        return f"{prog}: error:{name} {_one_line(exc.strerror or exc)}", 2
+    if isinstance(exc, MemoryError):
+        return f"{prog}: error: out of memory (try a smaller --size)", 2
+    return None
+
+
 def main(argv: list[str] | None = None) -> Any:
-    """Run the command line; never lets a traceback reach the user for bad input."""
+    """Run the command line; never lets a traceback reach the user for bad input.
+
+    SIGINT and SIGTERM unwind the command (removing any temporary file) and
+    exit with status 130 and 143.
+    """
+    previous = _signals.install()
     saved = warnings.showwarning
     warnings.showwarning = _show_warning
     try:
         return _main(argv)
     finally:
         warnings.showwarning = saved
+        _signals.restore(previous)
+
+
+def _stop(exc: BaseException, prog: str) -> None:
+    """Exit after an interrupt: remove any temporary file left, say so in one line."""
+    atomic = sys.modules.get("spherewarp.io.atomic")
+    if atomic is not None:
+        atomic.remove_live()
+    code, word = _signals.exit_status(exc)
+    click.echo(f"{prog}: {word} (no partially written file is left)", err=True)
+    sys.exit(code)
 
 
 def _main(argv: list[str] | None) -> Any:
     prog = "spherewarp"
     _compile_notice.enable(sys.stderr)  # one line, not a silent minute, if numba compiles
     try:
-        return cli.main(args=argv, prog_name=prog, standalone_mode=False)
+        result = cli.main(args=argv, prog_name=prog, standalone_mode=False)
+        _signals.check()  # a stop that something swallowed on the way
+        return result
     except click.exceptions.Exit as exc:
         sys.exit(exc.exit_code)
-    except click.exceptions.Abort:
-        click.echo(f"{prog}: interrupted", err=True)
-        sys.exit(130)
-    except click.ClickException as exc:
-        where = ""
-        ctx = getattr(exc, "ctx", None)
-        if ctx is not None and ctx.command_path:
-            where = f" (see '{ctx.command_path} --help')"
-        click.echo(f"{prog}: error: {_one_line(exc.format_message())}{where}", err=True)
-        sys.exit(exc.exit_code if exc.exit_code else 2)
-    except SpherewarpError as exc:
-        click.echo(f"{prog}: error: {_one_line(exc.cli_message)}", err=True)
-        sys.exit(2)
-    except (KeyboardInterrupt, _Interrupted):
-        click.echo(f"{prog}: interrupted (no partially written file is left)", err=True)
-        sys.exit(130)
-    except OSError as exc:
-        name = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
-        click.echo(f"{prog}: error:{name} {_one_line(exc.strerror or exc)}", err=True)
-        sys.exit(2)
-    except MemoryError:
-        click.echo(f"{prog}: error: out of memory (try a smaller --size)", err=True)
-        sys.exit(2)
-    except Exception as exc:  # an internal bug: say so in one line, traceback on request
-        if os.environ.get("SPHEREWARP_DEBUG"):
+    except (KeyboardInterrupt, _Interrupted, _signals.Terminated, click.exceptions.Abort) as exc:
+        _stop(exc, prog)
+    except Exception as exc:
+        if _signals.requested() is not None:  # e.g. wrapped by Python into a RuntimeError
+            _stop(exc, prog)
+        report = error_line(exc, prog)
+        if report is not None:
+            click.echo(report[0], err=True)
+            sys.exit(report[1])
+        if os.environ.get("SPHEREWARP_DEBUG"):  # an internal bug: one line, traceback on request
             raise
         click.echo(
             f"{prog}: internal error: {type(exc).__name__}: {_one_line(exc)} "

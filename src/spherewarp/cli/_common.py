@@ -16,6 +16,7 @@ Values are parsed by click types that raise one-line errors naming the option.
 
 from __future__ import annotations
 
+import functools
 import os
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -38,11 +39,13 @@ __all__ = [
     "render_options",
     "load_input",
     "save_output",
+    "output_name",
     "output_path",
     "OutputPlan",
     "plan_output",
     "convert_for_output",
     "check_size_limit",
+    "run_inputs",
 ]
 
 
@@ -241,6 +244,9 @@ class RenderOptions:
     exposure: float = 0.0
     background: str | None = None
     quiet: bool = False
+    max_pixels: int | None = None
+    #: ``-o`` names a directory (an existing one, or a path ending in '/'): outputs go into it
+    output_dir: bool = False
 
     def progress(self, desc: str = "rendering") -> Any:
         """A ``progress`` callback for :func:`spherewarp.warp`: a bar on a terminal
@@ -259,8 +265,6 @@ class RenderOptions:
             _NOTES_SHOWN.add(text)
             click.echo(f"spherewarp: note: {text}", err=True)
 
-    max_pixels: int | None = None
-
     def warp_kwargs(self, pixels: Any) -> dict[str, Any]:
         """Keyword arguments for :func:`spherewarp.warp`."""
         kwargs: dict[str, Any] = {
@@ -276,11 +280,84 @@ class RenderOptions:
         return kwargs
 
 
-def input_argument(func: Callable) -> Callable:
-    """The ``INPUT`` image argument."""
-    return click.argument(
-        "input", type=click.Path(dir_okay=False, path_type=Path), metavar="INPUT"
-    )(func)
+def input_argument(func: Callable | None = None, *, required: bool = True) -> Callable:
+    """The ``INPUT...`` argument: one image, or several processed one after the other.
+
+    The command function still receives one ``input`` (None when the argument
+    is optional and missing) and is called once for each. With several inputs,
+    ``-o`` must name a directory (or be left out); each input's output gets the
+    name it would get on its own. An input that fails (unreadable, its output
+    exists, ...) reports its one error line and the batch goes on; the command
+    then exits with status 2. A usage error stops the batch.
+    """
+
+    def decorate(func: Callable) -> Callable:
+        @functools.wraps(func)
+        def each_input(input: tuple[Path, ...], **kwargs: Any) -> None:
+            run_inputs(func, input, kwargs)
+
+        each_input.__doc__ = (func.__doc__ or "").rstrip() + _BATCH_HELP
+        return click.argument(
+            "input",
+            nargs=-1,
+            required=required,
+            type=click.Path(dir_okay=False, path_type=Path),
+            metavar="INPUT..." if required else "[INPUT...]",
+        )(each_input)
+
+    return decorate if func is None else decorate(func)
+
+
+_BATCH_HELP = """
+
+    Several INPUTs are processed one after the other in one run: -o DIR/ puts
+    each output into DIR under the name it would get on its own;
+    an input that fails says why in one line, the others go on, and the exit
+    status is then 2. No output may be an input (checked before any work).
+    """
+
+
+def _names_directory(output: str | None) -> bool:
+    return output is not None and (output.endswith(("/", os.sep)) or os.path.isdir(output))
+
+
+def run_inputs(func: Callable, inputs: tuple[Path, ...], kwargs: dict[str, Any]) -> None:
+    """Call ``func(input=..., **kwargs)`` for each input, each with a fresh
+    :class:`~spherewarp.cli._files.Job` that also knows the batch's other inputs and the
+    outputs written so far (so no input is overwritten and no output written twice)."""
+    from .. import _signals
+    from ..errors import SpherewarpError
+    from . import error_line
+    from ._files import Job, new_job
+
+    if not inputs:
+        new_job()
+        func(input=None, **kwargs)
+        return
+    output = kwargs.get("output")
+    if len(inputs) > 1 and output is not None and not _names_directory(output):
+        raise click.UsageError(
+            f"-o {output!r}: several inputs need -o DIR/ (a directory, made if missing) or no -o"
+        )
+    reads = tuple((p, "input") for p in inputs)
+    if len(inputs) == 1:
+        new_job(Job(reads=reads))
+        func(input=inputs[0], **kwargs)
+        return
+    written: list[tuple[Path, str]] = []
+    failed = 0
+    for path in inputs:
+        job = new_job(Job(reads=reads, writes=tuple(written)))
+        try:
+            func(input=path, **kwargs)
+        except (SpherewarpError, OSError, MemoryError) as exc:
+            if _signals.requested() is not None:
+                raise  # interrupted: stop the batch
+            click.echo(error_line(exc)[0], err=True)  # type: ignore[index]
+            failed += 1
+        written += [(p, f"input {str(path)!r}") for p, _ in job.written]
+    if failed:
+        raise SpherewarpError(f"{failed} of {len(inputs)} inputs failed (each said why above)")
 
 
 _TONEMAPS = ("aces", "reinhard", "clip")  # spherewarp.io.tonemap.TONEMAPS (not imported here)
@@ -323,12 +400,13 @@ def render_options(func: Callable) -> Callable:
         click.option(
             "-o",
             "--output",
-            type=click.Path(dir_okay=False, path_type=Path),
+            type=click.Path(path_type=str),
             help="Output file; its extension picks the format (.jpg .png .tif .webp .exr). "
-            "Default: INPUT's name with the command appended, in the current directory. "
-            "The sample type is kept where the format holds it (8/16-bit PNG and TIFF, "
-            "float TIFF and EXR); else it is converted, with a note: HDR (float) to "
-            "JPEG/WebP is tone-mapped to 8-bit sRGB and to PNG to 16-bit (--tonemap), "
+            "Default: INPUT's name with the command appended (in.jpg -> in-COMMAND.jpg), in "
+            "the current directory; -o DIR/ (an existing directory or a name ending in /) puts "
+            "that name into DIR. The sample type is kept where the format holds it (8/16-bit "
+            "PNG and TIFF, float TIFF and EXR); else it is converted, with a note: HDR (float) "
+            "to JPEG/WebP is tone-mapped to 8-bit sRGB and to PNG to 16-bit (--tonemap), "
             "16-bit to JPEG/WebP becomes 8-bit, and transparency (a cropped panorama's "
             "uncovered part) is flattened for JPEG (--background).",
         ),
@@ -411,8 +489,10 @@ def render_options(func: Callable) -> Callable:
 
     def wrapper(**kwargs: Any) -> Any:
         check_size_limit(kwargs["size"], kwargs["max_pixels"])
+        output = kwargs.pop("output")
         render = RenderOptions(
-            output=kwargs.pop("output"),
+            output=None if output is None else Path(output),
+            output_dir=_names_directory(output),
             overwrite=kwargs.pop("overwrite"),
             force=kwargs.pop("force"),
             size=kwargs.pop("size"),
@@ -442,33 +522,50 @@ def render_options(func: Callable) -> Callable:
     return wrapper
 
 
-def load_input(path: Path, render: RenderOptions | None = None) -> Any:
-    """Read an input image (``ImageData``), refusing a non-2:1 one unless ``--force``."""
+def load_input(path: Path, render: RenderOptions | None = None, label: str = "input") -> Any:
+    """Read an input image (``ImageData``), refusing a non-2:1 one unless ``--force``.
+
+    The path is registered as read (``label`` names it in an error), so no output may be it.
+    """
     from ..io import read_image
     from ..render.warp import check_equirect
+    from ._files import job
 
+    job().reads(path, label)
     data = read_image(path, max_pixels=render.max_pixels if render else None)
     check_equirect(data.pixels, force=bool(render and render.force), name=str(path))
     return data
 
 
-def output_path(render: RenderOptions, input_path: Path | None, command: str) -> Path:
-    """Where to write: ``-o``, or ``<input stem>-<command><input suffix>`` in the cwd."""
-    if render.output is not None:
-        out = render.output
-    elif input_path is not None:
-        out = Path(f"{input_path.stem}-{command}{input_path.suffix}")
-    else:
-        out = Path(f"{command}.png")
+def output_name(render: RenderOptions, input_path: Path | None, command: str) -> Path:
+    """The output's name: ``-o``, else ``<input stem>-<command><input suffix>``, in the cwd or
+    in the ``-o DIR/`` directory."""
+    if render.output is not None and not render.output_dir:
+        return render.output
     if input_path is not None:
-        same = out.resolve() == input_path.resolve()
-        if not same and out.exists() and input_path.exists():
-            same = os.path.samefile(out, input_path)
-        if same:
-            raise InvalidValueError(
-                f"the output {str(out)!r} is the input file; choose another -o (inputs are "
-                "never overwritten)"
-            )
+        name = f"{input_path.stem}-{command}{input_path.suffix}"
+    else:
+        name = f"{command}.png"
+    return render.output / name if render.output is not None else Path(name)
+
+
+def output_path(
+    render: RenderOptions,
+    input_path: Path | None,
+    command: str,
+    option: str = "-o",
+    given: str | None = None,
+) -> Path:
+    """Where to write (:func:`output_name`), registered as written; refuses an input (any link
+    to one included, even with ``--overwrite``) and an existing file without ``--overwrite``.
+
+    ``option`` and ``given`` (what the user typed, e.g. a frame pattern) name it in an error.
+    """
+    from ._files import job
+
+    out = job().writes(output_name(render, input_path, command), option, given)
+    if render.output_dir and render.output is not None:
+        render.output.mkdir(parents=True, exist_ok=True)
     if out.exists() and not render.overwrite:
         raise OutputExistsError(f"{str(out)!r} exists; pass --overwrite to replace it")
     return out

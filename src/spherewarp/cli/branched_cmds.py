@@ -114,8 +114,8 @@ def _render(input: Path, render: RenderOptions, pull_map: Any, command: str) -> 
     from ..render import warp
     from ._common import load_input, output_path, save_output
 
+    output_path(render, input, command)  # refuse a bad output before the work
     src = load_input(input, render)
-    output_path(render, src.path, command)  # refuse a bad output before the work
     out = warp(src.pixels, pull_map, **render.warp_kwargs(src.pixels))
     save_output(out, src, render, command=command)
 
@@ -333,6 +333,7 @@ def splitscreen(
     import spherewarp.splitscreen as ss
 
     from ._common import load_input, output_path, save_output
+    from ._files import job
 
     cover = cover.lower()
     if len(inputs) < 2:
@@ -346,8 +347,11 @@ def splitscreen(
         )
     if cover == "exp":
         render = _supersample(render, EXP_SUPERSAMPLE)
-    sources = [load_input(path, render) for path in inputs]
-    output_path(render, sources[0].path, "splitscreen")  # refuse a bad output first
+    labels = [f"input {k + 1}" for k in range(len(inputs))]
+    for path, label in zip(inputs, labels, strict=True):
+        job().reads(path, label)
+    output_path(render, inputs[0], "splitscreen")  # refuse a bad output first
+    sources = [load_input(path, render, label) for path, label in zip(inputs, labels, strict=True)]
     pixels = [s.pixels for s in sources]
     options: dict[str, Any] = {
         "cover": cover,

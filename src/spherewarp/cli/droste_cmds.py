@@ -237,7 +237,8 @@ def droste(
     portal round the far point. --twist turns the copies into Escher's spiral.
     """
     from .. import droste as dr
-    from ._common import convert_for_output, load_input, output_path, save_output
+    from ._common import convert_for_output, load_input, output_name, output_path, save_output
+    from ._files import job
 
     frame = frame or None
     given = [name for name, v in (("--frame", frame), ("--mask", mask)) if v is not None]
@@ -255,6 +256,22 @@ def droste(
     view = view.lower()
     if view != "equirect" and frames is not None:
         raise click.UsageError("--frames renders the equirectangular loop; drop --view")
+
+    if not print_map:  # every file read and written, checked before any work
+        if mask is not None:
+            job().reads(mask, "--mask image")
+        for path in inside:
+            job().reads(path, "--inside image")
+        if view != "equirect":
+            _check_suffix(output_path(render, input, "droste-log"))
+        elif frames is None:
+            _check_suffix(output_path(render, input, "droste"))
+        else:
+            pattern = output_name(render, input, "droste")
+            paths = frame_paths(pattern, frames)
+            for p in paths:  # refuse inputs, existing files and bad names before any work
+                one = replace(render, output=p, output_dir=False)
+                _check_suffix(output_path(one, input, "droste", given=str(pattern)))
 
     if frame is not None:
         hole = dr.hole_from_corners(list(frame), center, far=far)
@@ -284,7 +301,7 @@ def droste(
     src = load_input(input, render)
     images = [src.pixels]
     for path in inside:
-        extra = load_input(path, render)
+        extra = load_input(path, render, "--inside image")
         if extra.pixels.dtype != src.pixels.dtype or extra.pixels.shape[2] != src.pixels.shape[2]:
             from ..errors import InvalidValueError
 
@@ -299,8 +316,7 @@ def droste(
     if view != "equirect":
         from ..io import write_image
 
-        out = output_path(render, src.path, "droste-log")
-        _check_suffix(out)
+        out = output_path(render, input, "droste-log")
         height = render.size[1] if render.size is not None else None
         pixels = dr.log_view(
             images,
@@ -325,20 +341,15 @@ def droste(
         return
 
     if frames is None:
-        _check_suffix(output_path(render, src.path, "droste"))
         click.echo(f"droste: scale {d.scale:.4g}" + (" (auto)" if scale == "auto" else ""))
         save_output(dr.droste_image(images, d, **kwargs), src, render, command="droste")
         return
 
-    base = output_path(replace(render, overwrite=True), src.path, "droste")
-    paths = frame_paths(base, frames)
-    per_frame = [replace(render, output=p) for p in paths]
-    for r in per_frame:  # refuse existing files and bad names before any work
-        _check_suffix(output_path(r, src.path, "droste"))
+    per_frame = [replace(render, output=p, output_dir=False) for p in paths]
     for p in {p.parent for p in paths}:
         p.mkdir(parents=True, exist_ok=True)
     click.echo(f"droste: scale {d.scale:.4g}, {frames} frames")
     for r, pixels in zip(
         per_frame, dr.droste_frames(images, d, frames, start=phase, **kwargs), strict=True
     ):
-        save_output(pixels, src, r, command="droste")
+        save_output(pixels, src, r, command="droste")  # atomic, as every image written

@@ -43,9 +43,7 @@ def _json_of_fit(data: dict[str, Any]) -> str:
         "spherewarp lattes --lattice square --alpha 2+1j --print",
     )
 )
-@click.argument(
-    "input", type=click.Path(dir_okay=False, path_type=Path), metavar="[INPUT]", required=False
-)
+@input_argument(required=False)
 @click.option(
     "--lattice",
     type=_LATTICE,
@@ -114,8 +112,8 @@ def lattes(
     from ..render import warp
     from ._common import load_input, output_path
 
+    _check_suffix(output_path(render, input, "lattes"))
     src = load_input(input, render)
-    _check_suffix(output_path(render, src.path, "lattes"))
     out = warp(src.pixels, lmap, **render.warp_kwargs(src.pixels))
     save_output(out, src, render, command="lattes")
 
@@ -202,13 +200,13 @@ def peirce(input: Path, render: RenderOptions, inverse: bool, lon0: float) -> No
     if inverse:
         from ..io import read_image
 
+        _check_suffix(output_path(render, input, "peirce"))
         src = read_image(input, max_pixels=render.max_pixels)
         h, w = src.pixels.shape[:2]
         if h != w:
             raise InvalidValueError(
                 f"{input}: expected a square Peirce quincuncial image, got {w}x{h}"
             )
-        _check_suffix(output_path(render, src.path, "peirce"))
         shape = (render.size[1], render.size[0]) if render.size else None
         out = peirce_to_equirect(
             src.pixels,
@@ -222,8 +220,8 @@ def peirce(input: Path, render: RenderOptions, inverse: bool, lon0: float) -> No
         return
     from ._common import load_input
 
+    _check_suffix(output_path(render, input, "peirce"))
     src = load_input(input, render)
-    _check_suffix(output_path(render, src.path, "peirce"))
     size = render.size[0] if render.size else None
     out = render_peirce(
         src.pixels,
@@ -279,6 +277,7 @@ def torus(input: Path, render: RenderOptions, lattice: str, cells: str, mesh: Pa
     from ..errors import InvalidValueError, OutputExistsError
     from ..torus import parse_cells, render_torus, render_torus_texture, write_torus_obj
     from ._common import load_input, output_path
+    from ._files import job
 
     try:
         cxy = parse_cells(cells)
@@ -289,12 +288,13 @@ def torus(input: Path, render: RenderOptions, lattice: str, cells: str, mesh: Pa
             raise click.BadParameter(
                 f"expected a file name ending in .obj, got {str(mesh)!r}", param_hint="--mesh"
             )
-        if not render.overwrite:
-            for p in (mesh, mesh.with_suffix(".mtl"), mesh.with_name(mesh.stem + "_texture.png")):
-                if p.exists():
-                    raise OutputExistsError(f"{str(p)!r} exists; pass --overwrite to replace it")
+    _check_suffix(output_path(render, input, "torus"))
+    if mesh is not None:
+        for p in (mesh, mesh.with_suffix(".mtl"), mesh.with_name(mesh.stem + "_texture.png")):
+            job().writes(p, "--mesh", str(mesh))
+            if p.exists() and not render.overwrite:
+                raise OutputExistsError(f"{str(p)!r} exists; pass --overwrite to replace it")
     src = load_input(input, render)
-    _check_suffix(output_path(render, src.path, "torus"))
     lat = lattice.lower()
     width = render.size[0] if render.size else None
     kw = {"interp": render.interp, "supersample": render.supersample, "force": render.force}

@@ -8,7 +8,7 @@ from typing import Any
 
 import click
 
-from ._common import SIZE, example, input_argument, max_pixels_option
+from ._common import SIZE, example, max_pixels_option
 
 __all__ = ["testpattern", "info", "demo"]
 
@@ -74,10 +74,11 @@ def testpattern(
     from ..io import write_image
     from ..testpattern import make_test_pattern
     from ._common import check_size_limit
+    from ._files import job
     from .mobius_cmds import check_output_suffix
 
     check_size_limit(size, None, option=False)  # what spherewarp writes, it can read back
-
+    job().writes(output, "-o")
     if output.exists() and not overwrite:
         raise OutputExistsError(f"'{output}' exists; pass --overwrite to replace it")
     check_output_suffix(output)
@@ -239,7 +240,7 @@ def _format_info(info: dict[str, Any]) -> str:
 
 
 @click.command(epilog=example("spherewarp info room.jpg", "spherewarp info room.exr --json"))
-@input_argument
+@click.argument("input", type=click.Path(dir_okay=False, path_type=Path), metavar="INPUT")
 @click.option("--json", "as_json", is_flag=True, help="Print the information as JSON.")
 @max_pixels_option
 def info(input: Path, as_json: bool, max_pixels: int | None) -> None:

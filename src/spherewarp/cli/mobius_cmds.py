@@ -132,9 +132,9 @@ def _render(
     from ..render import warp
     from ._common import load_input, output_path, save_output
 
+    check_output_suffix(output_path(render, input, command))  # refuse a bad output early
     if src is None:
         src = load_input(input, render)
-    check_output_suffix(output_path(render, src.path, command))  # refuse a bad output early
     out = warp(src.pixels, forward.inverse(), **render.warp_kwargs(src.pixels))
     gpano = _output_gpano(src, out.shape, pose_moves, command)
     save_output(out, src, render, command=command, gpano=gpano)
@@ -263,8 +263,10 @@ def zoom(
         import numpy as np
 
         from .. import coords
-        from ._common import load_input
+        from ._common import load_input, output_path
 
+        if not print_map:
+            check_output_suffix(output_path(render, input, "zoom"))  # refuse a bad output early
         src = load_input(input, render)
         h, w = src.pixels.shape[:2]
         x, y = at_pixel

@@ -42,9 +42,11 @@ dropped. On reading, the EXIF of a TIFF is rebuilt from those IFD0 tags and the
 EXIF/GPS sub-IFDs when the file has them.
 
 Writing is atomic: the image is encoded to a hidden temporary file in the
-destination directory (``.NAME.XXXXXXXX.tmp.EXT``), flushed to disk and renamed
-over the destination; on any failure, ``KeyboardInterrupt`` included, the
-temporary file is removed and an existing destination is left untouched.
+destination directory (``.NAME.spherewarp-PID-XXXXXXXX.tmp.EXT``), flushed to disk
+and renamed over the destination; on any failure, ``KeyboardInterrupt`` included,
+the temporary file is removed and an existing destination is left untouched
+(:mod:`spherewarp.io.atomic`, which also removes the temporary files a killed
+process left for the same destination).
 
 Examples
 --------
@@ -65,7 +67,6 @@ import contextlib
 import io
 import logging
 import os
-import secrets
 import stat
 import struct
 import sys
@@ -84,9 +85,9 @@ from ..errors import (
     ImageFormatError,
     InvalidTypeError,
     InvalidValueError,
-    OutputExistsError,
     SpherewarpError,
 )
+from .atomic import atomic_file, exists_error
 from .xmp import GPano, gpano_xmp, parse_gpano
 
 __all__ = [
@@ -1321,61 +1322,6 @@ def _gpano_arg(gpano: object, h: int, w: int) -> GPano | None:
     return gpano
 
 
-def _make_temp(p: Path) -> Path:
-    stem = p.name[:100]
-    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
-    for _ in range(100):
-        tmp = p.parent / f".{stem}.{secrets.token_hex(4)}.tmp{p.suffix}"
-        try:
-            fd = os.open(tmp, flags, 0o666)
-        except FileExistsError:
-            continue
-        os.close(fd)
-        return tmp
-    raise ImageFormatError(f"cannot write '{p}': no free temporary file name in '{p.parent}'")
-
-
-def _fsync(path: Path) -> None:
-    fd = os.open(path, os.O_RDWR | getattr(os, "O_BINARY", 0))
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
-
-
-def _fsync_dir(path: Path) -> None:
-    with contextlib.suppress(OSError, AttributeError):
-        fd = os.open(path, os.O_RDONLY)
-        try:
-            os.fsync(fd)
-        finally:
-            os.close(fd)
-
-
-def _exists_error(p: Path) -> OutputExistsError:
-    return OutputExistsError(
-        f"'{p}' exists; pass overwrite=True to replace it",
-        cli=f"'{p}' exists; pass --overwrite to replace it",
-    )
-
-
-def _commit(tmp: Path, p: Path, overwrite: bool) -> None:
-    if overwrite:
-        os.replace(tmp, p)
-        return
-    try:
-        os.link(tmp, p)  # atomic and never clobbers
-    except FileExistsError:
-        raise _exists_error(p) from None
-    except OSError:  # no hard links on this file system
-        if os.path.lexists(p):
-            raise _exists_error(p) from None
-        os.replace(tmp, p)
-    else:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-
-
 def write_image(
     path: str | os.PathLike[str],
     pixels: np.ndarray,
@@ -1483,7 +1429,7 @@ def write_image(
     if p.is_dir():
         raise ImageFormatError(f"cannot write '{p}': is a directory")
     if not overwrite and os.path.lexists(p):
-        raise _exists_error(p)
+        raise exists_error(p)
 
     meta = _Meta(
         icc_profile=icc,
@@ -1493,27 +1439,13 @@ def write_image(
         full_sphere=g is not None and not g.is_cropped and g.projection_type == "equirectangular",
     )
     try:
-        tmp = _make_temp(p)
-    except OSError as exc:
-        raise ImageFormatError(
-            f"cannot write '{p}': cannot create a file in '{parent}': {exc.strerror or exc}"
-        ) from exc
-    try:
-        try:
+        with atomic_file(p, overwrite=overwrite) as tmp:
             with _quiet_fds():  # C encoders' own messages: the error says what failed
                 _WRITERS[fmt](tmp, arr, meta)
-            _fsync(tmp)
-            _commit(tmp, p, overwrite)
-        except SpherewarpError:
-            raise
-        except Exception as exc:
-            raise ImageFormatError(
-                f"cannot write '{p}': {fmt} encoding or writing failed "
-                f"({type(exc).__name__}: {exc})"
-            ) from exc
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
+    except SpherewarpError:
         raise
-    _fsync_dir(parent)
+    except Exception as exc:
+        raise ImageFormatError(
+            f"cannot write '{p}': {fmt} encoding or writing failed ({type(exc).__name__}: {exc})"
+        ) from exc
     return p

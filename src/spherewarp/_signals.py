@@ -1,0 +1,132 @@
+"""SIGINT and SIGTERM for the command line: unwind, clean up, never lose a request.
+
+Standard library only, so the command line can install it before anything
+heavy is imported. :func:`install` turns SIGINT into :class:`KeyboardInterrupt`
+and SIGTERM into :class:`Terminated` (both unwind the stack, so every
+``finally`` and the atomic writer's clean-up run) and records the request:
+a library that swallows the exception (a bare ``except:`` round an optional
+import) cannot make it go away, since :func:`check` raises it again, and the
+atomic writer calls :func:`check` before it puts a file in place.
+
+An interrupt that arrives while Python code runs as a C callback (numba's
+kernel cache, through llvmlite and ctypes) or in ``__del__`` is not raised
+there (Python would print it and drop it): SIGALRM raises it 20 ms later.
+
+The library itself never installs handlers; only ``spherewarp.cli.main`` does.
+"""
+
+from __future__ import annotations
+
+import signal
+from typing import Any
+
+__all__ = ["Terminated", "install", "restore", "ignore", "check", "requested", "exit_status"]
+
+#: signal numbers received since :func:`install`
+_REQUESTS: list[int] = []
+#: whether the retry timer (SIGALRM, see below) is armed by us, and so ours to cancel
+_ARMED = [False]
+
+
+class Terminated(BaseException):
+    """SIGTERM arrived: like KeyboardInterrupt, not an :class:`Exception` (nothing catches it
+    by accident)."""
+
+
+def _exception(signum: int) -> BaseException:
+    return KeyboardInterrupt() if signum == signal.SIGINT else Terminated()
+
+
+#: top-level packages whose Python code runs as callbacks from C (llvmlite's object cache,
+#: during numba's kernel loading; the import system's weakref callbacks): an exception raised
+#: there is printed and dropped by Python
+_CALLBACK_PACKAGES = ("llvmlite", "numba", "ctypes", "importlib", "_frozen_importlib", "weakref")
+_RETRY_S = 0.02
+
+
+def _raise_unless_in_callback(frame: Any) -> None:
+    name = str(frame.f_globals.get("__name__", "")) if frame is not None else ""
+    in_callback = name.split(".")[0] in _CALLBACK_PACKAGES
+    if frame is not None and frame.f_code.co_name in ("__del__", "__set_name__"):
+        in_callback = True
+    if in_callback and hasattr(signal, "setitimer"):
+        signal.setitimer(signal.ITIMER_REAL, _RETRY_S)  # raise it a moment later, elsewhere
+        _ARMED[0] = True
+        return
+    raise _exception(_REQUESTS[0])
+
+
+def _handler(signum: int, frame: Any) -> None:
+    _REQUESTS.append(signum)
+    _raise_unless_in_callback(frame)
+
+
+def _retry(signum: int, frame: Any) -> None:
+    if _REQUESTS:
+        _raise_unless_in_callback(frame)
+
+
+def install() -> dict[int, Any]:
+    """Handle SIGINT and SIGTERM as above; return the handlers it replaced (for :func:`restore`).
+
+    Does nothing outside the main thread (where handlers cannot be set).
+    """
+    previous: dict[int, Any] = {}
+    handlers = {signal.SIGINT: _handler, signal.SIGTERM: _handler}
+    if hasattr(signal, "SIGALRM"):
+        handlers[signal.SIGALRM] = _retry
+    for signum, handler in handlers.items():
+        try:
+            previous[signum] = signal.signal(signum, handler)
+        except (ValueError, OSError):  # not the main thread, or not settable here
+            pass
+    return previous
+
+
+def _cancel_retry() -> None:
+    if _ARMED[0] and hasattr(signal, "setitimer"):
+        _ARMED[0] = False
+        try:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+        except (ValueError, OSError):
+            pass
+
+
+def restore(previous: dict[int, Any]) -> None:
+    """Put back the handlers :func:`install` replaced and forget the requests."""
+    _cancel_retry()
+    for signum, handler in previous.items():
+        try:
+            signal.signal(signum, handler)
+        except (ValueError, OSError, TypeError):
+            pass
+    _REQUESTS.clear()
+
+
+def requested() -> int | None:
+    """The first signal received since :func:`install`, or None."""
+    return _REQUESTS[0] if _REQUESTS else None
+
+
+def check() -> None:
+    """Raise KeyboardInterrupt or :class:`Terminated` again if a stop was requested."""
+    signum = requested()
+    if signum is not None:
+        raise _exception(signum)
+
+
+def exit_status(exc: BaseException) -> tuple[int, str]:
+    """The exit status and word for an interrupt: (130, "interrupted") or (143, "terminated")."""
+    if isinstance(exc, Terminated) or requested() == signal.SIGTERM:
+        return 143, "terminated"
+    return 130, "interrupted"
+
+
+def ignore() -> None:
+    """Ignore SIGINT and SIGTERM from now on (the process is about to exit)."""
+    _cancel_retry()
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        try:
+            signal.signal(signum, signal.SIG_IGN)
+        except (ValueError, OSError):
+            pass
