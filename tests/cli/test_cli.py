@@ -461,3 +461,10 @@ def test_console_script_bad_input_is_one_line(workdir):
     assert done.stderr.startswith("spherewarp: error:") and done.stderr.count("\n") == 1
     assert "Traceback" not in done.stderr
     assert not Path("bad-zoom.png").exists()
+
+
+def test_no_arguments_prints_the_help_not_an_error_line(workdir):
+    code, out, err = run(None)
+    assert code == 2
+    assert "spherewarp: error" not in err
+    assert "Commands:" in err and err.count("\n") > 10

@@ -171,6 +171,9 @@ def _main(argv: list[str] | None) -> Any:
         return result
     except click.exceptions.Exit as exc:
         sys.exit(exc.exit_code)
+    except click.exceptions.NoArgsIsHelpError as exc:  # 'spherewarp' alone: the help, as is
+        click.echo(exc.ctx.get_help() if exc.ctx else exc.format_message(), err=True)
+        sys.exit(2)
     except (KeyboardInterrupt, _Interrupted, _signals.Terminated, click.exceptions.Abort) as exc:
         _stop(exc, prog)
     except Exception as exc:
