@@ -1889,7 +1889,9 @@ def render_spec(
     point for uint8, :func:`area_batch` otherwise). ``prog``: int64 progress
     counters, ``PROGRESS_STRIDE`` apart (a cache line each); worker ``wk`` adds
     one to ``prog[wk * PROGRESS_STRIDE]`` per tile finished (no atomics: one
-    writer per slot), which the caller may read while the kernel runs.
+    writer per slot), which the caller may read while the kernel runs; the
+    caller cancels the render by setting the last slot, ``prog[-1]``, to non-zero
+    (each worker stops before its next tile).
     """
     hi = img[5]
     wi, c, obytes, ntx, ntiles, big_w, shift, lom, spill = _layout(img, dst, ho, wo, th, tw)
@@ -1966,9 +1968,12 @@ def render_spec(
         fast_u8, p64, tail, big, big_w, shift, lom, bi32[0], bi32[1],
         np.empty(nu8, np.uint16), bq[0], bq[1], np.empty(nu8, np.uint32),
     )  # fmt: skip
+    stop = prog.shape[0] - 1  # the caller sets this slot to cancel (Ctrl-C)
     for tt in range(ntiles):
         if (tt // ntx) % nw != wk:
             continue
+        if prog[stop] != 0:
+            return
         ty0, tx0, h, w = _tile(tt, ntx, th, tw, ho, wo)
         cc = ccos[tx0 : tx0 + w]
         cs = csin[tx0 : tx0 + w]

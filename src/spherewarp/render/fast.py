@@ -337,33 +337,33 @@ def _run(
     threads: int | None,
     items: int,
     poll: Callable[[], None] | None = None,
+    cancel: Callable[[], None] | None = None,
 ) -> None:
     """Run ``kernel(*args, wk, nw)`` for ``nw`` workers on threads (the kernels drop the GIL).
 
-    With ``poll``, every share runs on the pool and the calling thread calls
-    ``poll()`` every :data:`PROGRESS_INTERVAL` seconds until they are done
-    (and once more at the end).
+    The shares run on the pool while the calling thread waits in Python, so a
+    Ctrl-C (which Python delivers to the main thread only) is seen at once:
+    ``cancel()`` then asks the kernels to stop early (where they can), and the
+    call waits for them before it raises, so no kernel outlives it. With
+    ``poll``, the calling thread calls ``poll()`` every :data:`PROGRESS_INTERVAL`
+    seconds until the shares are done (and once more at the end).
     """
     from concurrent.futures import FIRST_EXCEPTION, wait
 
     nw = default_threads() if threads is None else int(threads)
     nw = max(1, min(nw, items))
-    if poll is None:
-        if nw == 1:
-            kernel(*args, 0, 1)
-            return
-        futures = [_pool(nw - 1).submit(kernel, *args, wk, nw) for wk in range(1, nw)]
-        kernel(*args, 0, nw)
-    else:
-        futures = [_pool(nw).submit(kernel, *args, wk, nw) for wk in range(nw)]
-        try:
-            while wait(futures, PROGRESS_INTERVAL, FIRST_EXCEPTION).not_done:
-                if any(f.done() and f.exception() is not None for f in futures):
-                    break
+    futures = [_pool(nw).submit(kernel, *args, wk, nw) for wk in range(nw)]
+    try:
+        while wait(futures, PROGRESS_INTERVAL, FIRST_EXCEPTION).not_done:
+            if any(f.done() and f.exception() is not None for f in futures):
+                break
+            if poll is not None:
                 poll()
-        except BaseException:  # poll raised (or Ctrl-C): no kernel may outlive the call
-            wait(futures)
-            raise
+    except BaseException:  # poll raised, or Ctrl-C: stop the kernels, then let it through
+        if cancel is not None:
+            cancel()
+        wait(futures)
+        raise
     for f in futures:
         f.result()
     if poll is not None:
@@ -530,16 +530,20 @@ def render_spec(
     )  # fmt: skip
     nw = default_threads() if threads is None else int(threads)
     stride = k.PROGRESS_STRIDE
-    prog = np.zeros(max(1, nw) * stride, np.int64)
+    prog = np.zeros(max(1, nw) * stride + 1, np.int64)  # + the cancel slot (see render_spec)
     poll = None
     if progress is not None:
         total = -(-h_out // th) * -(-w_out // tw)
 
         def poll() -> None:
-            progress(int(prog[::stride].sum()), total)
+            progress(int(prog[:-1:stride].sum()), total)
 
         progress(0, total)
-    _run(k.render_spec, (*args, prog), threads, -(-h_out // th), poll)
+
+    def cancel() -> None:
+        prog[-1] = 1
+
+    _run(k.render_spec, (*args, prog), threads, -(-h_out // th), poll, cancel)
 
 
 def source_coords(
