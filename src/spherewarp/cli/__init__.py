@@ -42,6 +42,7 @@ COMMANDS: dict[str, str] = {
     "exp": "branched_cmds:exp",
     "map": "branched_cmds:map_cmd",
     "splitscreen": "branched_cmds:splitscreen",
+    "project": "views_cmds:project",
 }
 
 

@@ -260,6 +260,32 @@ class RenderOptions:
             click.echo(f"spherewarp: note: {text}", err=True)
 
     max_pixels: int | None = None
+    #: the output grid (``--projection``, ``--view-at``, ``--view-roll``, ``--fov``)
+    projection: str | None = None
+    view_at: tuple[float, float] | None = None
+    view_roll: float = 0.0
+    fov: float | None = None
+
+    @property
+    def panorama(self) -> bool:
+        """The output is an equirectangular panorama (it carries GPano)."""
+        return self.projection in (None, "equirect")
+
+    def grid(self, in_shape: tuple[int, ...]) -> Any:
+        """The output grid for an input of ``in_shape``, or None for the plain panorama."""
+        if self.projection is None and self.view_at is None and not self.view_roll:
+            if self.fov is not None:
+                raise InvalidValueError(
+                    "--fov needs a --projection (little-planet, rectilinear, fisheye, ...)"
+                )
+            return None
+        from ..grids import make_grid
+
+        size = None if self.size is None else (self.size[1], self.size[0])
+        return make_grid(
+            self.projection or "equirect", in_shape[:2], shape=size, look_at=self.view_at,
+            roll=self.view_roll, fov=self.fov,
+        )  # fmt: skip
 
     def warp_kwargs(self, pixels: Any) -> dict[str, Any]:
         """Keyword arguments for :func:`spherewarp.warp`."""
@@ -271,7 +297,10 @@ class RenderOptions:
             "force": self.force,
             "progress": self.progress(),
         }
-        if self.size is not None:
+        grid = self.grid(pixels.shape)
+        if grid is not None:
+            kwargs["grid"] = grid
+        elif self.size is not None:
             kwargs["output_shape"] = (self.size[1], self.size[0])
         return kwargs
 
@@ -312,6 +341,45 @@ def check_size_limit(
             f"({'--max-pixels or ' if option else ''}{MAX_PIXELS_ENV})",
             param_hint="--size",
         )
+
+
+#: ``--projection`` names (spherewarp.grids.GRIDS; not imported here, to start fast)
+PROJECTIONS = (
+    "equirect", "little-planet", "stereographic", "rectilinear", "fisheye", "equisolid",
+    "cubemap", "cubemap-6x1",
+)  # fmt: skip
+
+view_options = [
+    click.option(
+        "--projection",
+        type=click.Choice(PROJECTIONS, case_sensitive=False),
+        help="Output grid: equirect (default), little-planet (= stereographic: the nadir in "
+        "the middle, the sky round it), rectilinear (a flat view), fisheye (equidistant), "
+        "equisolid, cubemap (v360's 3x2 sheet: right left up / down front back), "
+        "cubemap-6x1. Only equirect outputs carry GPano.",
+    ),
+    click.option(
+        "--view-at",
+        "view_at",
+        type=PointType(),
+        help="Point LON,LAT the output grid looks at (its centre; default: the grid's own, "
+        "0,-90 for little-planet, else 0,0).",
+    ),
+    click.option(
+        "--view-roll",
+        "view_roll",
+        type=RealType("an angle in degrees", "10", metavar="DEG"),
+        default=0.0,
+        help="Roll the output grid by DEG (as ffmpeg v360's roll).",
+    ),
+    click.option(
+        "--fov",
+        type=RealType("a field of view in degrees", "90", metavar="DEG", gt=0, le=360),
+        help="Field of view of the output grid (little-planet: 270 across the shorter side; "
+        "rectilinear: 90 horizontal; fisheyes: 180).",
+    ),
+]
+"""The options of the output grid, part of :func:`render_options`."""
 
 
 def render_options(func: Callable) -> Callable:
@@ -407,6 +475,7 @@ def render_options(func: Callable) -> Callable:
             "appears only on a terminal, for renders longer than a second.",
         ),
         max_pixels_option,
+        *view_options,
     ]
 
     def wrapper(**kwargs: Any) -> Any:
@@ -426,6 +495,10 @@ def render_options(func: Callable) -> Callable:
             background=kwargs.pop("background"),
             quiet=kwargs.pop("quiet"),
             max_pixels=kwargs.pop("max_pixels"),
+            projection=kwargs.pop("projection"),
+            view_at=kwargs.pop("view_at"),
+            view_roll=kwargs.pop("view_roll"),
+            fov=kwargs.pop("fov"),
         )
         return func(render=render, **kwargs)
 
@@ -488,6 +561,8 @@ def save_output(
     from ..io import write_image
 
     out = output_path(render, getattr(source, "path", None), command)
+    if not render.panorama:  # a little planet, a flat view, a cube map: no GPano
+        gpano = False
     pixels = convert_for_output(pixels, out, render)
     written = write_image(
         out,
