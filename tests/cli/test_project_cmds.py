@@ -58,3 +58,13 @@ def test_bad_view_options_give_one_line(tmp_path):
         code, _, err = run(None, *args)
         assert code != 0
         assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
+
+
+def test_from_torus_is_refused_in_one_line(tmp_path):
+    pic = tmp_path / "t.png"
+    from spherewarp.io import write_image
+
+    write_image(pic, np.zeros((16, 16, 3), np.uint8))
+    code, _, err = run(None, "project", str(pic), "--from", "torus", "-o", str(tmp_path / "o.png"))
+    assert code != 0 and len(err.strip().splitlines()) == 1
+    assert "--from torus" in err

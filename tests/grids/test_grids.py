@@ -188,3 +188,15 @@ def test_every_effect_in_every_grid(grid, map_name):
     assert np.all(a[inside] > 0.999)  # no holes
     np.testing.assert_allclose(out[..., :3][inside], 0.75, atol=1e-4)  # no seams
     assert np.all(a[~inside] == 0)  # outside a fisheye's circle: transparent
+
+
+def test_peirce_and_torus_grids_are_the_existing_projections(interior):
+    from spherewarp import projections, torus
+
+    small = interior[::4, ::4]
+    g = make_grid("peirce", small.shape[:2])
+    mine = warp(small, Mobius.identity(), grid=g, antialias="none")
+    assert _psnr(mine, projections.render_peirce(small, g.shape[0])) > 60
+    g = make_grid("torus", small.shape[:2])
+    mine = warp(small, Mobius.identity(), grid=g, antialias="none")
+    assert _psnr(mine, torus.render_torus(small, "square", width=g.shape[1])) > 60

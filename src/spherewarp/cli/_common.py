@@ -346,7 +346,7 @@ def check_size_limit(
 #: ``--projection`` names (spherewarp.grids.GRIDS; not imported here, to start fast)
 PROJECTIONS = (
     "equirect", "little-planet", "stereographic", "rectilinear", "fisheye", "equisolid",
-    "cubemap", "cubemap-6x1",
+    "cubemap", "cubemap-6x1", "peirce", "torus",
 )  # fmt: skip
 
 view_options = [
@@ -356,7 +356,8 @@ view_options = [
         help="Output grid: equirect (default), little-planet (= stereographic: the nadir in "
         "the middle, the sky round it), rectilinear (a flat view), fisheye (equidistant), "
         "equisolid, cubemap (v360's 3x2 sheet: right left up / down front back), "
-        "cubemap-6x1. Only equirect outputs carry GPano.",
+        "cubemap-6x1, peirce (quincuncial: the whole sphere on a square), torus (the "
+        "torus cell of the square lattice). Only equirect outputs carry GPano.",
     ),
     click.option(
         "--view-at",

@@ -1,4 +1,4 @@
-"""Output grids: equirectangular, little planet, rectilinear, fisheye, cube maps.
+"""Output grids: equirectangular, little planet, rectilinear, fisheye, cube maps, Peirce, torus.
 
 A grid says which point of the sphere each output pixel shows
 (:mod:`spherewarp.grids.base`). :func:`make_grid` builds one by name, with the
@@ -27,8 +27,10 @@ from .base import (
     Equisolid,
     Fisheye,
     Grid,
+    Peirce,
     Rectilinear,
     Stereographic,
+    Torus,
     view_frame,
 )
 from .render import from_grid
@@ -43,6 +45,8 @@ __all__ = [
     "Equisolid",
     "CubeMap3x2",
     "CubeMap6x1",
+    "Peirce",
+    "Torus",
     "make_grid",
     "default_shape",
     "from_grid",
@@ -59,6 +63,8 @@ GRIDS: dict[str, type[Grid]] = {
     "equisolid": Equisolid,
     "cubemap": CubeMap3x2,
     "cubemap-6x1": CubeMap6x1,
+    "peirce": Peirce,
+    "torus": Torus,
 }
 
 
@@ -76,7 +82,8 @@ def default_shape(name: str, in_shape: tuple[int, int]) -> tuple[int, int]:
 
     Equirect: the input's; little planet and fisheyes: a square of the input's
     height; rectilinear: 4:3, two thirds of the input's height wide; cube maps: faces of half the
-    input's height (ffmpeg ``v360``'s default).
+    input's height (ffmpeg ``v360``'s default); Peirce: 3/2 of the input's height
+    (about its resolution at the centre); the torus cell: a square of the input's height.
 
     Examples
     --------
@@ -95,6 +102,9 @@ def default_shape(name: str, in_shape: tuple[int, int]) -> tuple[int, int]:
     if cls is CubeMap6x1:
         f = max(1, h // 2)
         return (f, 6 * f)
+    if cls is Peirce:  # about the input's resolution at the centre (as render_peirce)
+        n = max(2, round(1.5 * h / 2) * 2)
+        return (n, n)
     return (h, h)
 
 
@@ -128,7 +138,7 @@ def make_grid(
     if look_at is not None:
         kwargs["look_at"] = tuple(float(v) for v in look_at)
     if fov is not None:
-        if cls in (Equirect, CubeMap3x2, CubeMap6x1):
+        if cls in (Equirect, CubeMap3x2, CubeMap6x1, Peirce, Torus):
             raise InvalidValueError(
                 f"a field of view does not apply to {cls.name}",
                 cli=f"--fov does not apply to --projection {cls.name}",

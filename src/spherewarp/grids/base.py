@@ -49,6 +49,8 @@ __all__ = [
     "Equisolid",
     "CubeMap3x2",
     "CubeMap6x1",
+    "Peirce",
+    "Torus",
     "view_frame",
 ]
 
@@ -510,3 +512,79 @@ class CubeMap6x1(_Cube):
     name = "cubemap-6x1"
     cols = 6
     rows = 1
+
+
+#: the Peirce and torus grids' native frame: their zenith is the camera's forward axis
+_ZENITH_FORWARD = view_frame((0.0, 90.0))
+
+
+@dataclass(frozen=True)
+class Peirce(Grid):
+    """Peirce's quincuncial projection (:mod:`spherewarp.projections`): the whole sphere
+    conformally on a square, ``look_at`` at the centre (default the zenith: then it is
+    :func:`~spherewarp.projections.render_peirce` with ``lon0 = 0``, the front meridian
+    running to the bottom-left corner). ``fov`` does not apply.
+
+    Examples
+    --------
+    >>> g = Peirce((64, 64))
+    >>> px, ok = g.inverse([0.0, 0.0, 1.0])     # the zenith: the centre
+    >>> px.round(9).tolist(), bool(ok)
+    ([32.0, 32.0], True)
+    """
+
+    look_at: tuple[float, float] = (0.0, 90.0)
+    name = "peirce"
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.shape[0] != self.shape[1]:
+            raise InvalidValueError(f"expected a square Peirce picture, got {self.shape!r}")
+
+    def _camera(self, x, y, dx, dy):
+        from ..projections import sphere_from_peirce
+
+        n = self.shape[0]
+        native = sphere_from_peirce(2 * (x + dx) / n - 1, 1 - 2 * (y + dy) / n)
+        return native @ _ZENITH_FORWARD, np.ones(x.shape, bool)
+
+    def _pixel(self, cam):
+        from ..projections import peirce_from_sphere
+
+        n = self.shape[0]
+        u, v = peirce_from_sphere(cam @ _ZENITH_FORWARD.T)
+        px = np.stack([(u + 1) * n / 2, (1 - v) * n / 2], -1)
+        return px, np.ones(px.shape[:-1], bool)
+
+
+@dataclass(frozen=True)
+class Torus(Grid):
+    """The torus cell (:mod:`spherewarp.torus`): pixel ``(x, y)`` of a ``(h, w)`` picture is
+    the point ``u = x/w + (1 - y/h) i`` of the square lattice's unit cell, shown at
+    ``℘̃(u)`` (the cell covers the sphere twice; its corners show the nadir, its centre the
+    zenith, with ``look_at`` at the default (0, 90)). The picture tiles the plane.
+    :meth:`inverse` is not defined (two points of the cell show each direction).
+
+    Examples
+    --------
+    >>> xyz, _ = Torus((8, 8)).directions_at(4.0, 4.0)    # the centre: the zenith
+    >>> xyz.round(9).tolist()
+    [0.0, 0.0, 1.0]
+    """
+
+    look_at: tuple[float, float] = (0.0, 90.0)
+    name = "torus"
+
+    def _camera(self, x, y, dx, dy):
+        from .. import special
+
+        h, w = self.shape
+        u = (x + dx) / w + 1j * (1 - (y + dy) / h)
+        zw = special.weierstrass_p_pair(u, "square", normalized=True)
+        return coords.xyz_from_cp1(zw) @ _ZENITH_FORWARD, np.ones(x.shape, bool)
+
+    def _pixel(self, cam):
+        raise InvalidValueError(
+            "the torus cell covers the sphere twice: it has no inverse",
+            cli="--from torus is not supported (the torus cell covers the sphere twice)",
+        )
