@@ -110,10 +110,12 @@ def _project_from(input: Path, render: RenderOptions, name: str) -> None:
     size = (2 * h, h) if render.size is None else render.size
     if name == "cubemap-6x1" and render.size is None:
         size = (4 * h, 2 * h)
-    n = render.supersample if isinstance(render.antialias, str) else int(render.antialias)
-    out: Any = from_grid(src.pixels, grid, (size[1], size[0]), supersample=max(1, n), alpha=False)
-    if out.shape[1] != 2 * out.shape[0]:
+    if size[0] != 2 * size[1]:
         raise InvalidValueError(f"expected a 2:1 --size for the panorama, got {size[0]}x{size[1]}")
+    n = None if render.supersample == 1 else render.supersample
+    if not isinstance(render.antialias, str):
+        n = int(render.antialias)
+    out: Any = from_grid(src.pixels, grid, (size[1], size[0]), supersample=n)
     save_output(
         out,
         src,

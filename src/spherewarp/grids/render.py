@@ -212,14 +212,14 @@ def from_grid(
     grid: Grid,
     output_shape: tuple[int, int],
     *,
-    supersample: int = 1,
+    supersample: int | None = None,
     background: Any = None,
     alpha: bool = False,
 ) -> NDArray:
     """An equirectangular panorama of ``output_shape`` from a picture in ``grid``.
 
-    Every output pixel averages ``supersample x supersample`` bilinear samples (default
-    one) of
+    Every output pixel averages ``supersample x supersample`` bilinear samples (default:
+    one, and more where the picture has over twice the output's pixels a side: up to 4) of
     ``image`` (clamped at its edges; a cube map's samples stay on their face) at
     :meth:`Grid.inverse` of their directions; directions the picture does not show
     get ``background`` (and alpha 0 with ``alpha``).
@@ -243,6 +243,9 @@ def from_grid(
     c = img.shape[2]
     add_alpha = alpha and c in (1, 3)
     bg = _background(background, c)
+    if supersample is None:
+        ratio = grid.shape[0] * grid.shape[1] / (h_out * w_out)
+        supersample = int(np.clip(np.ceil(np.sqrt(ratio) - 1.0), 1, 4))
     n = max(1, int(supersample))
     out = np.empty((h_out, w_out, c + add_alpha), img.dtype)
     off = (np.arange(n) + 0.5) / n - 0.5
