@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pytest
 from _cli import run
 
 DATA = Path(__file__).resolve().parents[2] / "src" / "spherewarp" / "data"
@@ -68,3 +69,38 @@ def test_from_torus_is_refused_in_one_line(tmp_path):
     code, _, err = run(None, "project", str(pic), "--from", "torus", "-o", str(tmp_path / "o.png"))
     assert code != 0 and len(err.strip().splitlines()) == 1
     assert "--from torus" in err
+
+
+_F = "-173,23.6 -153.8,24.5 -153.8,-14.8 -173,-14.2".split()
+EFFECTS = {
+    "rotate": ["--yaw", "30"],
+    "zoom": ["--at", "0,-90", "--factor", "2"],
+    "mobius": ["--matrix", "1,0.5,0,1"],
+    "power": ["--n", "2"],
+    "exp": ["--lam", "4"],
+    "map": ["--expr", "z**3"],
+    "droste": ["--center", "-163,5", "--frame", *_F],
+    "lattes": ["--lattice", "square", "--alpha", "1+1j"],
+    "splitscreen": [str(DATA / "courtyard.png"), "--cover", "power", "--n", "2"],
+}
+
+
+@pytest.mark.parametrize("command", list(EFFECTS))
+def test_every_effect_command_takes_a_projection(tmp_path, command):
+    out = tmp_path / "o.png"
+    code, _, err = run(
+        None, command, str(DATA / "interior.png"), *EFFECTS[command], "--projection",
+        "rectilinear", "--view-at", "20,10", "--fov", "80", "--size", "48x32", "-o", str(out),
+    )  # fmt: skip
+    assert code == 0, err
+    img = _read(out)
+    assert img.pixels.shape[:2] == (32, 48) and img.gpano is None
+
+
+@pytest.mark.parametrize("command", ["peirce", "torus"])
+def test_own_picture_commands_refuse_a_projection(tmp_path, command):
+    code, _, err = run(
+        None, command, str(DATA / "interior.png"), "--projection", "fisheye",
+        "-o", str(tmp_path / "o.png"),
+    )  # fmt: skip
+    assert code != 0 and "project --to" in err and len(err.strip().splitlines()) == 1

@@ -287,6 +287,15 @@ class RenderOptions:
             roll=self.view_roll, fov=self.fov,
         )  # fmt: skip
 
+    def refuse_view(self, command: str) -> None:
+        """For commands with an output of their own (a Peirce square, a torus): refuse the
+        output grid options."""
+        if self.projection is not None or self.view_at is not None or self.view_roll or self.fov:
+            raise InvalidValueError(
+                f"{command} makes its own picture: --projection, --view-at, --view-roll and "
+                f"--fov do not apply (spherewarp project --to {command} renders it as a grid)"
+            )
+
     def warp_kwargs(self, pixels: Any) -> dict[str, Any]:
         """Keyword arguments for :func:`spherewarp.warp`."""
         kwargs: dict[str, Any] = {

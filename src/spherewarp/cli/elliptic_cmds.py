@@ -197,6 +197,8 @@ def peirce(input: Path, render: RenderOptions, inverse: bool, lon0: float) -> No
     from ..projections import peirce_to_equirect, render_peirce
     from ._common import output_path
 
+    render.refuse_view("peirce")
+
     if not math.isfinite(lon0):
         raise click.BadParameter(f"expected a finite longitude, got {lon0!r}", param_hint="--lon0")
     if inverse:
@@ -279,6 +281,8 @@ def torus(input: Path, render: RenderOptions, lattice: str, cells: str, mesh: Pa
     from ..errors import InvalidValueError, OutputExistsError
     from ..torus import parse_cells, render_torus, render_torus_texture, write_torus_obj
     from ._common import load_input, output_path
+
+    render.refuse_view("torus")
 
     try:
         cxy = parse_cells(cells)
