@@ -373,7 +373,7 @@ view_options = [
         "view_at",
         type=PointType(),
         help="Point LON,LAT the output grid looks at (its centre; default: the grid's own, "
-        "0,-90 for little-planet, else 0,0).",
+        "0,-90 for little-planet, 0,90 for peirce and torus, else 0,0).",
     ),
     click.option(
         "--view-roll",

@@ -49,7 +49,7 @@ from ._common import (
     "look_at",
     type=PointType(),
     help="Point LON,LAT the grid looks at (default: the grid's own: 0,-90 for a little "
-    "planet, else 0,0).",
+    "planet, 0,90 for peirce and torus, else 0,0).",
 )
 @click.option(
     "--roll",
@@ -69,7 +69,10 @@ def project(
     """Reproject the panorama INPUT into another grid (--to), or back (--from).
 
     The same grids as every effect's --projection: little-planet (stereographic),
-    rectilinear, fisheye, equisolid, cubemap (3x2, as ffmpeg v360's c3x2), cubemap-6x1.
+    rectilinear, fisheye, equisolid, cubemap (3x2, as ffmpeg v360's c3x2), cubemap-6x1,
+    peirce (quincuncial), torus (the torus cell; --to only). Default sizes: a square of
+    the input's height for little-planet and the fisheyes, faces of half its height for
+    the cube maps.
     """
     if (to is None) == (from_ is None):
         raise click.UsageError("give one of --to NAME or --from NAME")
