@@ -278,7 +278,14 @@ def warp(
                 f"expected output_shape None or the grid's {grid.shape}, got {output_shape!r}"
             )
         output_shape = grid.shape
-        if grid.is_identity:
+        if grid.name == "equirect" and not grid.is_identity:
+            # a turned panorama: the map after v360's view rotation, on the fast path
+            from ..maps import Mobius
+
+            turn = Mobius.from_yaw_pitch_roll(grid.look_at[0], grid.look_at[1], grid.roll)
+            inverse_map = inverse_map @ turn
+            grid = None
+        elif grid.is_identity:
             grid = None
     if output_shape is None:
         output_shape = (h_in, w_in)
