@@ -104,3 +104,19 @@ def test_own_picture_commands_refuse_a_projection(tmp_path, command):
         "-o", str(tmp_path / "o.png"),
     )  # fmt: skip
     assert code != 0 and "project --to" in err and len(err.strip().splitlines()) == 1
+
+
+def test_from_fisheye_is_transparent_where_the_picture_does_not_reach(tmp_path):
+    fish = tmp_path / "fish.png"
+    code, _, err = run(
+        None, "project", str(DATA / "interior.png"), "--to", "fisheye", "--size", "64x64",
+        "-o", str(fish),
+    )  # fmt: skip
+    assert code == 0, err
+    back = tmp_path / "back.png"
+    code, _, err = run(None, "project", str(fish), "--from", "fisheye", "-o", str(back))
+    assert code == 0, err
+    px = _read(back).pixels
+    assert px.shape == (64, 128, 4)
+    a = px[..., 3]
+    assert a[:, 32:96].min() > 0 and a[:, :16].max() == 0  # the front half only

@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 import click
+import numpy as np
 
 from ..errors import InvalidValueError
 from ._common import (
@@ -41,8 +42,9 @@ from ._common import (
     "from_",
     type=click.Choice(PROJECTIONS, case_sensitive=False),
     help="INPUT is a picture in this grid (a cube map, a little planet, a fisheye): take "
-    "it back to an equirectangular panorama (--look-at, --roll, --fov: those it was made "
-    "with; --size: the panorama's, default twice as wide as INPUT is high).",
+    "it back to an equirectangular panorama, transparent where the picture does not reach "
+    "(--look-at, --roll, --fov: those it was made with; --size: the panorama's, default "
+    "twice as wide as INPUT is high).",
 )
 @click.option(
     "--look-at",
@@ -118,7 +120,10 @@ def _project_from(input: Path, render: RenderOptions, name: str) -> None:
     n = None if render.supersample == 1 else render.supersample
     if not isinstance(render.antialias, str):
         n = int(render.antialias)
-    out: Any = from_grid(src.pixels, grid, (size[1], size[0]), supersample=n)
+    out: Any = from_grid(src.pixels, grid, (size[1], size[0]), supersample=n, alpha=True)
+    channels = src.pixels.shape[2] if src.pixels.ndim == 3 else 1
+    if out.shape[2] > channels and np.all(out[..., -1] == out[..., -1].max()):
+        out = out[..., :channels]  # the picture covers the whole sphere: no alpha needed
     save_output(
         out,
         src,
