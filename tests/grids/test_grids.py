@@ -243,3 +243,20 @@ def test_turned_equirect_takes_the_fast_path_and_agrees_with_the_grid_path(inter
     bg = np.zeros(3, np.float32)
     render_into([small], m, g, ref, "bilinear", ("none", 1), bg, "reference", None)
     assert np.abs(fast.astype(int) - ref).max() <= 1
+
+
+@pytest.mark.skipif(not have_v360(), reason="PyAV with ffmpeg's v360 is not installed")
+@pytest.mark.parametrize("fov, view", [(180, {}), (120, {"look_at": (30, 20), "roll": 10})])
+def test_fisheye_matches_v360(interior, fov, view):
+    """v360's fisheye is the equidistant one (48-51 dB inside the circle)."""
+    from _v360_views import v360_view
+
+    opts = {"h_fov": fov, "v_fov": fov}
+    if view:
+        opts.update(yaw=view["look_at"][0], pitch=view["look_at"][1], roll=view["roll"])
+    ref = v360_view(interior, "fisheye", 256, 256, **opts)
+    g = make_grid("fisheye", shape=(256, 256), fov=fov, **view)
+    mine = warp(interior, Mobius.identity(), grid=g, antialias="none")
+    _, inside = g.directions()
+    whole = _box4(inside[..., None].astype(float))[..., 0] == 1  # 4x4 boxes inside the circle
+    assert _psnr(_box4(ref), _box4(mine), whole) >= 36
