@@ -120,3 +120,23 @@ def test_from_fisheye_is_transparent_where_the_picture_does_not_reach(tmp_path):
     assert px.shape == (64, 128, 4)
     a = px[..., 3]
     assert a[:, 32:96].min() > 0 and a[:, :16].max() == 0  # the front half only
+
+
+def test_look_at_and_roll_name_the_grid_where_the_command_has_no_such_option(tmp_path):
+    args = ["--projection", "rectilinear", "--size", "48x32"]
+    a, b = tmp_path / "a.png", tmp_path / "b.png"
+    src = str(DATA / "interior.png")
+    code, _, err = run(None, "zoom", src, "--at", "0,0", "--factor", "1", *args, "--look-at", "90,10",
+                       "--roll", "5", "-o", str(a))  # fmt: skip
+    assert code == 0, err
+    code, _, err = run(None, "zoom", src, "--at", "0,0", "--factor", "1", *args, "--view-at", "90,10",
+                       "--view-roll", "5", "-o", str(b))  # fmt: skip
+    assert code == 0, err
+    assert np.array_equal(_read(a).pixels, _read(b).pixels)
+    # rotate keeps its own --roll (the panorama's), power its own --look-at
+    code, _, err = run(None, "rotate", src, "--roll", "5", "--look-at", "90,10", *args,
+                       "-o", str(tmp_path / "c.png"))  # fmt: skip
+    assert code == 0, err
+    code, _, err = run(None, "power", src, "--n", "2", "--look-at", "0,90", "--roll", "5",
+                       *args, "-o", str(tmp_path / "d.png"))  # fmt: skip
+    assert code == 0, err

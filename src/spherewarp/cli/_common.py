@@ -392,6 +392,19 @@ view_options = [
 """The options of the output grid, part of :func:`render_options`."""
 
 
+def add_view_aliases(command: click.Command) -> click.Command:
+    """Give the grid options the names ``--look-at`` and ``--roll`` too, where ``command``
+    has no option of that name of its own (``rotate --roll`` turns the panorama and
+    ``power/exp/map/splitscreen --look-at`` turn the result; there only ``--view-roll``
+    and ``--view-at`` address the grid)."""
+    taken = {o for p in command.params for o in getattr(p, "opts", ())}
+    for param in command.params:
+        for name, alias in (("view_at", "--look-at"), ("view_roll", "--roll")):
+            if param.name == name and alias not in taken and alias not in param.opts:
+                param.opts.append(alias)
+    return command
+
+
 def render_options(func: Callable) -> Callable:
     """``-o``, ``--overwrite``, ``--force``, ``--size``, ``--interp``, ``--supersample``,
     ``--antialias``, ``--threads``, ``--quality``, ``--tonemap``, ``--exposure``,
