@@ -260,9 +260,10 @@ class _Azimuthal(_Plane):
 
     def _check_fov(self) -> None:
         if not 0 < self.fov <= self.max_fov:
+            what = f"a field of view in (0, {self.max_fov:g}] degrees for {self.name}"
             raise InvalidValueError(
-                f"expected a field of view in (0, {self.max_fov:g}] degrees for {self.name}, "
-                f"got {self.fov!r}"
+                f"expected {what}, got {self.fov!r}",
+                cli=f"--fov: expected {what}, got {self.fov:g}",
             )
 
     def _rho(self, theta):  # pragma: no cover - abstract
@@ -395,8 +396,10 @@ class Rectilinear(_Plane):
 
     def _check_fov(self) -> None:
         if not 0 < self.fov < 180:
+            what = "a field of view in (0, 180) degrees for rectilinear"
             raise InvalidValueError(
-                f"expected a field of view in (0, 180) degrees for rectilinear, got {self.fov!r}"
+                f"expected {what}, got {self.fov!r}",
+                cli=f"--fov: expected {what}, got {self.fov:g}",
             )
 
     def _unit(self) -> float:
@@ -445,9 +448,12 @@ class _Cube(Grid):
         h, w = self.shape
         if w * self.rows != h * self.cols:
             s = max(1, w // self.cols)
-            raise InvalidValueError(
-                f"expected a {self.name} of {self.cols}x{self.rows} square faces, got {w}x{h} "
+            what = (
+                f"a {self.name} of {self.cols}x{self.rows} square faces, got {w}x{h} "
                 f"(e.g. {s * self.cols}x{s * self.rows})"
+            )
+            raise InvalidValueError(
+                f"expected {what}", cli=f"expected {what}; --size sets an output's"
             )
 
     @property
