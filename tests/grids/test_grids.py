@@ -274,3 +274,21 @@ def test_no_seam_where_the_view_crosses_the_panoramas_edge(interior, name):
     a = warp(small, m, grid=make_grid(name, small.shape[:2], look_at=(180, lat)), antialias="area")
     b = warp(turned, m, grid=make_grid(name, small.shape[:2], look_at=(0, lat)), antialias="area")
     assert np.abs(a.astype(int) - b).max() <= 1
+
+
+@pytest.mark.parametrize(
+    "name, m",
+    [
+        ("little-planet", Mobius.zoom((0, -90), 0.5).inverse()),
+        ("cubemap", Droste((0, 0), np.full(16, np.log(0.3)), 3.0)),
+    ],
+)
+def test_area_filter_in_a_grid_is_what_supersampling_converges_to(interior, name, m):
+    """The grid's area filter against 8 x 8 supersampling (70 and 54 dB measured; single
+    taps: 40 and 34 dB)."""
+    g = make_grid(name, interior.shape[:2], shape=(128, 128) if name != "cubemap" else (128, 192))
+    ref = warp(interior, m, grid=g, antialias=8)
+    area = warp(interior, m, grid=g, antialias="area")
+    one = warp(interior, m, grid=g, antialias="none")
+    assert _psnr(area, ref) >= 45
+    assert _psnr(area, ref) > _psnr(one, ref) + 8
