@@ -408,7 +408,9 @@ def add_view_aliases(command: click.Command) -> click.Command:
 def render_options(func: Callable) -> Callable:
     """``-o``, ``--overwrite``, ``--force``, ``--size``, ``--interp``, ``--supersample``,
     ``--antialias``, ``--threads``, ``--quality``, ``--tonemap``, ``--exposure``,
-    ``--background``, ``--quiet``, ``--max-pixels``; the command receives them as one
+    ``--background``, ``--quiet``, ``--max-pixels`` and the output grid's
+    (:data:`view_options`: ``--projection``, ``--view-at``, ``--view-roll``, ``--fov``);
+    the command receives them as one
     ``render`` argument."""
     options = [
         click.option(
