@@ -28,7 +28,7 @@ rotation); see :mod:`spherewarp.render.antialias`.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -38,6 +38,9 @@ from ..errors import InvalidTypeError, InvalidValueError
 from ..maps.base import SphereMap
 from . import antialias as _aa
 from .sampling import check_interp, sample, sample_area
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..grids import Grid
 
 __all__ = ["warp", "push", "check_equirect", "as_image"]
 
@@ -135,7 +138,7 @@ def warp(
     method: str = "auto",
     threads: int | None = None,
     progress: Callable[[int, int], None] | None = None,
-    grid: Any = None,
+    grid: Grid | None = None,
 ) -> NDArray:
     """Pull an equirectangular image back through a map of the sphere.
 
