@@ -29,6 +29,9 @@ Elliptic and rational maps (:mod:`spherewarp.maps.elliptic`, :mod:`spherewarp.ma
 The map protocol (:mod:`spherewarp.maps.base`)
     :class:`SphereMap`, :class:`PullBack`, :class:`Composite`,
     :func:`map_from_dict`, :func:`map_from_json`.
+Output grids (:mod:`spherewarp.grids`)
+    :func:`make_grid` (little planet, rectilinear, fisheye, equisolid, cube maps, Peirce,
+    torus; ``warp(..., grid=)``), :func:`from_grid` (such a picture back to the sphere).
 Images (:mod:`spherewarp.io`)
     :func:`read_image`, :func:`write_image`.
 Test pattern (:mod:`spherewarp.testpattern`)
@@ -83,6 +86,8 @@ _LAZY = {
     "fit_rational": "spherewarp.maps.rational",
     "splitscreen": "spherewarp.splitscreen",
     "make_test_pattern": "spherewarp.testpattern",
+    "make_grid": "spherewarp.grids",
+    "from_grid": "spherewarp.grids",
 }
 
 __all__ = [
@@ -112,9 +117,12 @@ __all__ = [
     "fit_rational",
     "splitscreen",
     "make_test_pattern",
+    "make_grid",
+    "from_grid",
 ]
 
 if TYPE_CHECKING:  # pragma: no cover
+    from .grids import from_grid, make_grid
     from .io import read_image, write_image
     from .maps.base import Composite, PullBack, SphereMap, map_from_dict, map_from_json
     from .maps.branched import ExpMap, Power

@@ -606,6 +606,7 @@ def splitscreen(
     antialias: str | int = "auto",
     threads: int | None = None,
     progress: Any = None,
+    grid: Any = None,
 ) -> NDArray:
     """Combine panoramas on the sheets of a branched cover, with feathered seams.
 
@@ -635,7 +636,7 @@ def splitscreen(
         Pull the result back by this map too (applied first), e.g.
         ``Mobius.rotation_to((0, 0), (0, 90))`` to put the zenith branch
         point at the centre.
-    output_shape, interp, supersample, force, antialias, threads, progress
+    output_shape, interp, supersample, force, antialias, threads, progress, grid
         As for :func:`~spherewarp.render.warp` (``output_shape`` defaults to
         the common input size). Supersample the exp cover: its sheets shrink
         to points at the back.
@@ -675,7 +676,10 @@ def splitscreen(
     else:
         seam_lon = seam
     kwargs: dict[str, Any] = {
-        "output_shape": output_shape if output_shape is not None else imgs[0].shape[:2],
+        "output_shape": (
+            output_shape if output_shape is not None or grid is not None else imgs[0].shape[:2]
+        ),
+        "grid": grid,
         "interp": interp,
         "supersample": supersample,
         "antialias": antialias,

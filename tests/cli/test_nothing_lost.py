@@ -42,6 +42,8 @@ CASES: dict[str, tuple[list[str], list[str]]] = {
     "peirce": (["peirce", "{a}"], ["a"]),
     "peirce-inverse": (["peirce", "{a}", "--inverse"], ["a"]),
     "torus": (["torus", "{a}"], ["a"]),
+    "project": (["project", "{a}", "--to", "little-planet"], ["a"]),
+    "project-from": (["project", "{a}", "--from", "cubemap-6x1"], ["a"]),
 }
 
 

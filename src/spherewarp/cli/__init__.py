@@ -44,6 +44,7 @@ COMMANDS: dict[str, str] = {
     "exp": "branched_cmds:exp",
     "map": "branched_cmds:map_cmd",
     "splitscreen": "branched_cmds:splitscreen",
+    "project": "views_cmds:project",
 }
 
 
@@ -88,7 +89,9 @@ class LazyGroup(click.Group):
             return None
         module_name, attr = target.split(":")
         module = importlib.import_module(f"{__name__}.{module_name}")
-        return getattr(module, attr)
+        from ._common import add_view_aliases
+
+        return add_view_aliases(getattr(module, attr))
 
 
 @click.group(

@@ -247,6 +247,11 @@ class RenderOptions:
     max_pixels: int | None = None
     #: ``-o`` names a directory (an existing one, or a path ending in '/'): outputs go into it
     output_dir: bool = False
+    #: the output grid (``--projection``, ``--view-at``, ``--view-roll``, ``--fov``)
+    projection: str | None = None
+    view_at: tuple[float, float] | None = None
+    view_roll: float = 0.0
+    fov: float | None = None
 
     def progress(self, desc: str = "rendering") -> Any:
         """A ``progress`` callback for :func:`spherewarp.warp`: a bar on a terminal
@@ -265,6 +270,36 @@ class RenderOptions:
             _NOTES_SHOWN.add(text)
             click.echo(f"spherewarp: note: {text}", err=True)
 
+    @property
+    def panorama(self) -> bool:
+        """The output is an equirectangular panorama (it carries GPano)."""
+        return self.projection in (None, "equirect")
+
+    def grid(self, in_shape: tuple[int, ...]) -> Any:
+        """The output grid for an input of ``in_shape``, or None for the plain panorama."""
+        if self.projection is None and self.view_at is None and not self.view_roll:
+            if self.fov is not None:
+                raise InvalidValueError(
+                    "--fov needs a --projection (little-planet, rectilinear, fisheye, ...)"
+                )
+            return None
+        from ..grids import make_grid
+
+        size = None if self.size is None else (self.size[1], self.size[0])
+        return make_grid(
+            self.projection or "equirect", in_shape[:2], shape=size, look_at=self.view_at,
+            roll=self.view_roll, fov=self.fov,
+        )  # fmt: skip
+
+    def refuse_view(self, command: str) -> None:
+        """For commands with an output of their own (a Peirce square, a torus): refuse the
+        output grid options."""
+        if self.projection is not None or self.view_at is not None or self.view_roll or self.fov:
+            raise InvalidValueError(
+                f"{command} makes its own picture: --projection, --view-at, --view-roll and "
+                f"--fov do not apply (spherewarp project --to {command} renders it as a grid)"
+            )
+
     def warp_kwargs(self, pixels: Any) -> dict[str, Any]:
         """Keyword arguments for :func:`spherewarp.warp`."""
         kwargs: dict[str, Any] = {
@@ -275,7 +310,10 @@ class RenderOptions:
             "force": self.force,
             "progress": self.progress(),
         }
-        if self.size is not None:
+        grid = self.grid(pixels.shape)
+        if grid is not None:
+            kwargs["grid"] = grid
+        elif self.size is not None:
             kwargs["output_shape"] = (self.size[1], self.size[0])
         return kwargs
 
@@ -391,10 +429,65 @@ def check_size_limit(
         )
 
 
+#: ``--projection`` names (spherewarp.grids.GRIDS; not imported here, to start fast)
+PROJECTIONS = (
+    "equirect", "little-planet", "stereographic", "rectilinear", "fisheye", "equisolid",
+    "cubemap", "cubemap-6x1", "peirce", "torus",
+)  # fmt: skip
+
+view_options = [
+    click.option(
+        "--projection",
+        type=click.Choice(PROJECTIONS, case_sensitive=False),
+        help="Output grid: equirect (default), little-planet (= stereographic: the nadir in "
+        "the middle, the sky round it), rectilinear (a flat view), fisheye (equidistant), "
+        "equisolid, cubemap (v360's 3x2 sheet: right left up / down front back), "
+        "cubemap-6x1, peirce (quincuncial: the whole sphere on a square), torus (the "
+        "torus cell of the square lattice). Only equirect outputs carry GPano.",
+    ),
+    click.option(
+        "--view-at",
+        "view_at",
+        type=PointType(),
+        help="Point LON,LAT the output grid looks at (its centre; default: the grid's own, "
+        "0,-90 for little-planet, 0,90 for peirce and torus, else 0,0).",
+    ),
+    click.option(
+        "--view-roll",
+        "view_roll",
+        type=RealType("an angle in degrees", "10", metavar="DEG"),
+        default=0.0,
+        help="Roll the output grid by DEG (as ffmpeg v360's roll).",
+    ),
+    click.option(
+        "--fov",
+        type=RealType("a field of view in degrees", "90", metavar="DEG", gt=0, le=360),
+        help="Field of view of the output grid (little-planet: 270 across the shorter side; "
+        "rectilinear: 90 horizontal; fisheyes: 180).",
+    ),
+]
+"""The options of the output grid, part of :func:`render_options`."""
+
+
+def add_view_aliases(command: click.Command) -> click.Command:
+    """Give the grid options the names ``--look-at`` and ``--roll`` too, where ``command``
+    has no option of that name of its own (``rotate --roll`` turns the panorama and
+    ``power/exp/map/splitscreen --look-at`` turn the result; there only ``--view-roll``
+    and ``--view-at`` address the grid)."""
+    taken = {o for p in command.params for o in getattr(p, "opts", ())}
+    for param in command.params:
+        for name, alias in (("view_at", "--look-at"), ("view_roll", "--roll")):
+            if param.name == name and alias not in taken and alias not in param.opts:
+                param.opts.append(alias)
+    return command
+
+
 def render_options(func: Callable) -> Callable:
     """``-o``, ``--overwrite``, ``--force``, ``--size``, ``--interp``, ``--supersample``,
     ``--antialias``, ``--threads``, ``--quality``, ``--tonemap``, ``--exposure``,
-    ``--background``, ``--quiet``, ``--max-pixels``; the command receives them as one
+    ``--background``, ``--quiet``, ``--max-pixels`` and the output grid's
+    (:data:`view_options`: ``--projection``, ``--view-at``, ``--view-roll``, ``--fov``);
+    the command receives them as one
     ``render`` argument."""
     options = [
         click.option(
@@ -485,6 +578,7 @@ def render_options(func: Callable) -> Callable:
             "appears only on a terminal, for renders longer than a second.",
         ),
         max_pixels_option,
+        *view_options,
     ]
 
     def wrapper(**kwargs: Any) -> Any:
@@ -506,6 +600,10 @@ def render_options(func: Callable) -> Callable:
             background=kwargs.pop("background"),
             quiet=kwargs.pop("quiet"),
             max_pixels=kwargs.pop("max_pixels"),
+            projection=kwargs.pop("projection"),
+            view_at=kwargs.pop("view_at"),
+            view_roll=kwargs.pop("view_roll"),
+            fov=kwargs.pop("fov"),
         )
         if render.quiet:
             from .._compile_notice import disable
@@ -589,6 +687,8 @@ def save_output(
     from ..io import write_image
 
     out = output_path(render, getattr(source, "path", None), command)
+    if not render.panorama:  # a little planet, a flat view, a cube map: no GPano
+        gpano = False
     pixels = convert_for_output(pixels, out, render)
     written = write_image(
         out,

@@ -195,6 +195,8 @@ def peirce(input: Path, render: RenderOptions, inverse: bool, lon0: float) -> No
     from ..projections import peirce_to_equirect, render_peirce
     from ._common import output_path
 
+    render.refuse_view("peirce")
+
     if not math.isfinite(lon0):
         raise click.BadParameter(f"expected a finite longitude, got {lon0!r}", param_hint="--lon0")
     if inverse:
@@ -278,6 +280,8 @@ def torus(input: Path, render: RenderOptions, lattice: str, cells: str, mesh: Pa
     from ..torus import parse_cells, render_torus, render_torus_texture, write_torus_obj
     from ._common import load_input, output_path
     from ._files import job
+
+    render.refuse_view("torus")
 
     try:
         cxy = parse_cells(cells)

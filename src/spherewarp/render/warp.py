@@ -28,7 +28,7 @@ rotation); see :mod:`spherewarp.render.antialias`.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -38,6 +38,9 @@ from ..errors import InvalidTypeError, InvalidValueError
 from ..maps.base import SphereMap
 from . import antialias as _aa
 from .sampling import check_interp, sample, sample_area
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..grids import Grid
 
 __all__ = ["warp", "push", "check_equirect", "as_image"]
 
@@ -135,6 +138,7 @@ def warp(
     method: str = "auto",
     threads: int | None = None,
     progress: Callable[[int, int], None] | None = None,
+    grid: Grid | None = None,
 ) -> NDArray:
     """Pull an equirectangular image back through a map of the sphere.
 
@@ -206,6 +210,11 @@ def warp(
         unit of work (tiles, rows) depends on the path: read ``done / total``
         as the fraction done. An exception it raises ends the call (on the
         fast path once the compiled workers have finished their share).
+    grid : spherewarp.grids.Grid, optional
+        The output's grid (:mod:`spherewarp.grids`): a little planet, a
+        rectilinear or fisheye view, a cube map; its shape is the output's
+        (``output_shape`` must then be None or equal). Default: the
+        equirectangular panorama of ``output_shape``.
 
     Returns
     -------
@@ -260,6 +269,27 @@ def warp(
             f"expected progress to be a callable (done, total), got {type(progress).__name__}"
         )
     h_in, w_in, channels = images[0].shape
+    if grid is not None:
+        from ..grids import Grid
+
+        if not isinstance(grid, Grid):
+            raise InvalidTypeError(
+                f"expected grid to be a spherewarp.grids.Grid, got {type(grid).__name__}"
+            )
+        if output_shape is not None and tuple(output_shape) != grid.shape:
+            raise InvalidValueError(
+                f"expected output_shape None or the grid's {grid.shape}, got {output_shape!r}"
+            )
+        output_shape = grid.shape
+        if grid.name == "equirect" and not grid.is_identity:
+            # a turned panorama: the map after v360's view rotation, on the fast path
+            from ..maps import Mobius
+
+            turn = Mobius.from_yaw_pitch_roll(grid.look_at[0], grid.look_at[1], grid.roll)
+            inverse_map = inverse_map @ turn
+            grid = None
+        elif grid.is_identity:
+            grid = None
     if output_shape is None:
         output_shape = (h_in, w_in)
     try:
@@ -286,6 +316,12 @@ def warp(
         raise InvalidValueError(
             "method='fast' needs numba (pip install numba), which is not importable here"
         )
+    if grid is not None:
+        from ..grids.render import render_into
+
+        sampler = "fast" if method != "reference" and fast.available() else "reference"
+        render_into(images, inverse_map, grid, out, interp, aa, bg, sampler, threads, progress)
+        return out
     single = inverse_map.n_sheets <= 1
     spec = fast.kernel_spec(inverse_map) if single and fast.available() else None
     if aa[0] == "auto":
@@ -520,6 +556,7 @@ def _sample_batches(
     sampler: str,
     threads: int | None,
     boxes: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+    to_cp1: Callable[[NDArray, NDArray], NDArray] | None = None,
 ) -> None:
     """:func:`_sample_pixels` for pixels ``p0, p0 + 1, ...`` (centres ``px``, pulled back
     to ``centre``: points, validity, sheet) in batches of about ``_SAMPLE_BATCH``
@@ -534,6 +571,7 @@ def _sample_batches(
         _sample_pixels(
             images, inverse_map, px[p:q], nx[p:q], ny[p:q], part, out_shape, flat, co, p0 + p,
             interp, bg, sampler, threads, None if boxes is None else (boxes[0][p:q], boxes[1][p:q]),
+            to_cp1,
         )  # fmt: skip
         p = q
 
@@ -641,11 +679,14 @@ def _sample_pixels(
     sampler: str,
     threads: int | None,
     boxes: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+    to_cp1: Callable[[NDArray, NDArray], NDArray] | None = None,
 ) -> None:
     """Average ``nx x ny`` samples in each pixel (centres already pulled back) into ``flat``.
 
     With ``boxes`` (the width and height of each pixel's samples, input pixels) the
     samples are area taps (:func:`~spherewarp.render.sampling.sample_area`).
+    ``to_cp1(positions, centres)`` gives the points that output pixel positions show
+    (default: those of the equirectangular output; a grid's otherwise).
     """
     h_out, w_out = out_shape
     image = images[0]
@@ -658,7 +699,11 @@ def _sample_pixels(
         sp = np.flatnonzero(special)
         owner, ox, oy = _aa.subsample_offsets(nx[sp], ny[sp])
         spx = np.stack([px[sp[owner], 0] - 0.5 + ox, px[sp[owner], 1] - 0.5 + oy], -1)
-        pb = inverse_map.pull(coords.cp1_from_lonlat(coords.lonlat_from_pixel(spx, w_out, h_out)))
+        if to_cp1 is None:
+            szw = coords.cp1_from_lonlat(coords.lonlat_from_pixel(spx, w_out, h_out))
+        else:
+            szw = to_cp1(spx, px[sp[owner]])
+        pb = inverse_map.pull(szw)
         total = int(start[-1])
         first = np.cumsum(counts[sp]) - counts[sp]  # of each special pixel's subsamples
         where_sub = start[sp[owner]] + (np.arange(owner.size) - first[owner])

@@ -1,0 +1,134 @@
+"""``spherewarp project``: reprojection between the panorama and the other grids."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import click
+import numpy as np
+
+from ..errors import InvalidValueError
+from ._common import (
+    PROJECTIONS,
+    PointType,
+    RealType,
+    RenderOptions,
+    example,
+    input_argument,
+    render_options,
+    save_output,
+)
+
+
+@click.command(
+    epilog=example(
+        "spherewarp project room.jpg --to little-planet -o planet.jpg",
+        "spherewarp project room.jpg --to rectilinear --look-at 90,10 --fov 70 -o view.jpg",
+        "spherewarp project room.jpg --to cubemap -o cube.png",
+        "spherewarp project cube.png --from cubemap -o room-again.png",
+    )
+)
+@input_argument
+@click.option(
+    "--to",
+    "to",
+    type=click.Choice(PROJECTIONS, case_sensitive=False),
+    help="Reproject the panorama INPUT into this grid (as --projection).",
+)
+@click.option(
+    "--from",
+    "from_",
+    type=click.Choice(PROJECTIONS, case_sensitive=False),
+    help="INPUT is a picture in this grid (a cube map, a little planet, a fisheye): take "
+    "it back to an equirectangular panorama, transparent where the picture does not reach "
+    "(--look-at, --roll, --fov: those it was made with; --size: the panorama's, default "
+    "twice as wide as INPUT is high).",
+)
+@click.option(
+    "--look-at",
+    "look_at",
+    type=PointType(),
+    help="Point LON,LAT the grid looks at (default: the grid's own: 0,-90 for a little "
+    "planet, 0,90 for peirce and torus, else 0,0).",
+)
+@click.option(
+    "--roll",
+    type=RealType("an angle in degrees", "10", metavar="DEG"),
+    default=0.0,
+    help="Roll of the grid, DEG (as ffmpeg v360's roll).",
+)
+@render_options
+def project(
+    input: Path,
+    render: RenderOptions,
+    to: str | None,
+    from_: str | None,
+    look_at: tuple[float, float] | None,
+    roll: float,
+) -> None:
+    """Reproject the panorama INPUT into another grid (--to), or back (--from).
+
+    The same grids as every effect's --projection: little-planet (stereographic),
+    rectilinear, fisheye, equisolid, cubemap (3x2, as ffmpeg v360's c3x2), cubemap-6x1,
+    peirce (quincuncial), torus (the torus cell; --to only). Default sizes: a square of
+    the input's height for little-planet and the fisheyes, faces of half its height for
+    the cube maps.
+    """
+    if (to is None) == (from_ is None):
+        raise click.UsageError("give one of --to NAME or --from NAME")
+    if render.projection is not None:
+        raise click.UsageError("project takes --to or --from, not --projection")
+    if look_at is not None and render.view_at is not None:
+        raise click.UsageError("give --look-at or --view-at, not both")
+    render = replace(
+        render,
+        view_at=look_at if look_at is not None else render.view_at,
+        view_roll=roll + render.view_roll,
+    )
+    if to is not None:
+        _project_to(input, replace(render, projection=to.lower()))
+    else:
+        _project_from(input, render, from_.lower())
+
+
+def _project_to(input: Path, render: RenderOptions) -> None:
+    from ..maps import Mobius
+    from ..render import warp
+    from ._common import load_input
+
+    src = load_input(input, render)
+    out = warp(src.pixels, Mobius.identity(), **render.warp_kwargs(src.pixels))
+    save_output(out, src, render, command=render.projection or "project")
+
+
+def _project_from(input: Path, render: RenderOptions, name: str) -> None:
+    from ..grids import from_grid, make_grid
+    from ..io import read_image
+    from ._files import job
+
+    job().reads(input, "input")
+    src = read_image(input, max_pixels=render.max_pixels)
+    h, w = src.pixels.shape[:2]
+    grid = make_grid(
+        name, shape=(h, w), look_at=render.view_at, roll=render.view_roll, fov=render.fov
+    )
+    size = (2 * h, h) if render.size is None else render.size
+    if name == "cubemap-6x1" and render.size is None:
+        size = (4 * h, 2 * h)
+    if size[0] != 2 * size[1]:
+        raise InvalidValueError(f"expected a 2:1 --size for the panorama, got {size[0]}x{size[1]}")
+    n = None if render.supersample == 1 else render.supersample
+    if not isinstance(render.antialias, str):
+        n = int(render.antialias)
+    out: Any = from_grid(src.pixels, grid, (size[1], size[0]), supersample=n, alpha=True)
+    channels = src.pixels.shape[2] if src.pixels.ndim == 3 else 1
+    if out.shape[2] > channels and np.all(out[..., -1] == out[..., -1].max()):
+        out = out[..., :channels]  # the picture covers the whole sphere: no alpha needed
+    save_output(
+        out,
+        src,
+        replace(render, projection=None, view_at=None, view_roll=0.0, fov=None),
+        command="equirect",
+    )
