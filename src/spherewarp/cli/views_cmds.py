@@ -17,6 +17,7 @@ from ._common import (
     RenderOptions,
     example,
     input_argument,
+    output_path,
     render_options,
     save_output,
 )
@@ -99,6 +100,7 @@ def _project_to(input: Path, render: RenderOptions) -> None:
     from ._common import load_input
 
     src = load_input(input, render)
+    output_path(render, input, render.projection or "project")  # refuse a bad -o first
     out = warp(src.pixels, Mobius.identity(), **render.warp_kwargs(src.pixels))
     save_output(out, src, render, command=render.projection or "project")
 
@@ -109,6 +111,7 @@ def _project_from(input: Path, render: RenderOptions, name: str) -> None:
     from ._files import job
 
     job().reads(input, "input")
+    output_path(render, input, "equirect")  # refuse a bad -o before reading
     src = read_image(input, max_pixels=render.max_pixels)
     h, w = src.pixels.shape[:2]
     grid = make_grid(
