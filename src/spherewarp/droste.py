@@ -722,10 +722,11 @@ def auto_scale(hole: Hole, *, border: float = 0.0, margin: float | None = None) 
     with np.errstate(all="ignore"):
         log_bal = float(_balanced_log_scale(hole))
     if not log_bal < math.log(1e100):  # the scale limit of droste maps (NaN too)
-        raise InvalidValueError(
+        why = (
             f"the hole (mean radius {hole.mean_radius:.3g} degrees) is too small for an "
-            "automatic scale; use a larger hole or give the scale (CLI: --scale)"
+            "automatic scale; use a larger hole or give the scale"
         )
+        raise InvalidValueError(why + " (scale=)", cli=why + " (--scale)")
     return float(max(lam_fit, math.exp(log_bal), 1.01))
 
 

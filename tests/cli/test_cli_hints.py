@@ -65,3 +65,17 @@ def test_exists_and_max_pixels_errors_carry_both_wordings(tmp_path: Path) -> Non
     exc = _raised(read_image, p, max_pixels=10)
     assert "max_pixels=" in str(exc)
     _no_python(exc.cli_message)
+
+
+def test_lattes_degree_bound_names_exact(tmp_path: Path) -> None:
+    src = write_image(tmp_path / "in.png", np.zeros((8, 16, 3), np.uint8))
+    err = fails(None, "lattes", src, "--alpha", "8", "-o", tmp_path / "o.png")
+    assert "--exact" in err and "method=" not in err
+    _no_python(err)
+
+
+def test_no_cli_message_says_python_in_brackets() -> None:
+    """'(CLI: --x)' appended to a Python message is the old style: use ``cli=`` instead."""
+    src = Path(__file__).resolve().parents[2] / "src" / "spherewarp"
+    hits = [p for p in src.rglob("*.py") if "(CLI: --" in p.read_text(encoding="utf-8")]
+    assert hits == []

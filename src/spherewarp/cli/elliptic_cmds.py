@@ -94,7 +94,7 @@ def lattes(
     try:
         lmap = Lattes(alpha, lattice.lower(), method="exact" if exact else "rational")
     except InvalidValueError as exc:
-        raise InvalidValueError(f"--alpha: {exc}") from None
+        raise InvalidValueError(f"--alpha: {exc.cli_message}") from None
     if print_map:
         from ..maps.elliptic import MAX_FITTED_DEGREE
 

@@ -350,7 +350,7 @@ def mobius(
         try:
             forward = Mobius([[a, b], [c, d]])
         except InvalidValueError as exc:
-            raise InvalidValueError(f"--matrix: {exc}") from None
+            raise InvalidValueError(f"--matrix: {exc.cli_message}") from None
     else:
         if from_points is None or to_points is None:
             missing = "--from" if from_points is None else "--to"

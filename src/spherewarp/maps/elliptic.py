@@ -341,11 +341,12 @@ class Lattes(SphereMap):
         if meth not in ("rational", "exact"):
             raise InvalidValueError(f"unknown method {method!r}; expected one of: rational, exact")
         if meth == "rational" and deg > MAX_FITTED_DEGREE:
-            raise InvalidValueError(
+            why = (
                 f"the fitted rational map holds for |alpha|^2 <= {MAX_FITTED_DEGREE}, got {deg} "
-                f"for alpha = {_format_alpha(a, b, lat)}; use method='exact' (CLI: --exact) "
-                f"for degrees up to {MAX_LATTES_DEGREE}"
+                f"for alpha = {_format_alpha(a, b, lat)}; use "
             )
+            more = f" for degrees up to {MAX_LATTES_DEGREE}"
+            raise InvalidValueError(why + "method='exact'" + more, cli=why + "--exact" + more)
         self._lattice = lat
         self._ab = (a, b)
         self._alpha = lattice_integer(a, b, lat)
