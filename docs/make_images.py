@@ -38,11 +38,11 @@ def main() -> None:
                 Image.fromarray(pixels).save(OUT / "testpattern.png", optimize=True)
             elif stem in PICKS:
                 Image.fromarray(pixels).save(OUT / PICKS[stem], quality=82, optimize=True)
-        # a little planet framed by a Mobius zoom (the nadir shrunk 2x: more sky round it)
+        # a little planet framed by a Mobius zoom (the nadir shrunk to 3/4: more sky round it)
         planet, src = Path(tmp) / "planet.png", Path(tmp) / "demo" / "01-original.png"
         subprocess.run(
             [sys.executable, "-m", "spherewarp", "zoom", str(src), "--at", "0,-90", "--factor",
-             "0.5", "--projection", "little-planet", "--size", "512x512", "-q", "-o", str(planet)],
+             "0.75", "--projection", "little-planet", "--size", "512x512", "-q", "-o", str(planet)],
             check=True,
         )  # fmt: skip
         pixels = np.asarray(Image.open(planet).convert("RGB"))
