@@ -31,6 +31,9 @@ The map protocol (:mod:`spherewarp.maps.base`)
     :func:`map_from_dict`, :func:`map_from_json`.
 Images (:mod:`spherewarp.io`)
     :func:`read_image`, :func:`write_image`.
+Recipes (:mod:`spherewarp.recipe`)
+    :class:`Recipe` (load, save, validate, ``at(t)``, ``render``): the
+    serialisable render request, with tracks over time; :class:`RecipeError`.
 Test pattern (:mod:`spherewarp.testpattern`)
     :func:`make_test_pattern`.
 Coordinates (:mod:`spherewarp.coords`)
@@ -83,6 +86,8 @@ _LAZY = {
     "fit_rational": "spherewarp.maps.rational",
     "splitscreen": "spherewarp.splitscreen",
     "make_test_pattern": "spherewarp.testpattern",
+    "Recipe": "spherewarp.recipe",
+    "RecipeError": "spherewarp.recipe",
 }
 
 __all__ = [
@@ -112,6 +117,8 @@ __all__ = [
     "fit_rational",
     "splitscreen",
     "make_test_pattern",
+    "Recipe",
+    "RecipeError",
 ]
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -125,6 +132,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .maps.rational import Rational, fit_rational
     from .render.warp import push, warp
     from .splitscreen import splitscreen
+    from .recipe import Recipe, RecipeError
     from .testpattern import make_test_pattern
 
 
