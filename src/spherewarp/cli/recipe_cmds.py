@@ -1,0 +1,172 @@
+"""``spherewarp render``: replay a recipe; ``--save-recipe``: write one.
+
+Every effect command that takes ``--save-recipe R.json`` builds the recipe step
+of what it does (its own options, by name) and hands it to
+:func:`saving_recipe`; ``spherewarp render R.json IN -o OUT`` builds the same map
+from the step (:mod:`spherewarp.recipe.effects`) and renders it with the same
+options, so the pixels are the command's own.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import click
+
+from ._common import RealType, RenderOptions, example, input_argument, render_options
+
+__all__ = ["render", "recipe_options", "saving_recipe", "recipe_of"]
+
+TIME = RealType("a time in seconds", "1.5", metavar="T")
+
+#: recipe files this process wrote (path -> text): a batch writes its recipe once
+_WRITTEN: dict[str, str] = {}
+
+
+def recipe_options(func: Callable) -> Callable:
+    """The ``--save-recipe R.json`` and ``--dry-run`` options of an effect command."""
+    func = click.option(
+        "--dry-run",
+        is_flag=True,
+        help="With --save-recipe: write the recipe and render nothing (INPUT is still read "
+        "where the recipe needs it, as for --at-pixel).",
+    )(func)
+    return click.option(
+        "--save-recipe",
+        type=click.Path(dir_okay=False, path_type=Path),
+        metavar="R.json",
+        help="Also write the recipe of this render as JSON; 'spherewarp render R.json IN' "
+        "replays it on any panorama.",
+    )(func)
+
+
+def recipe_of(
+    step: dict[str, Any], render: RenderOptions, input: Path | None = None
+) -> dict[str, Any]:
+    """The recipe data of one step rendered with ``render``'s options."""
+    options: dict[str, Any] = {
+        "interp": render.interp,
+        "supersample": render.supersample,
+        "antialias": render.antialias,
+    }
+    if render.background is not None:
+        options["background"] = render.background
+    data: dict[str, Any] = {"spherewarp": 1}
+    if input is not None:
+        data["inputs"] = [input.name]
+    data["steps"] = [{k: {n: v for n, v in p.items() if v is not None} for k, p in step.items()}]
+    if render.size is not None:
+        data["view"] = {"size": list(render.size)}
+    data["options"] = options
+    return data
+
+
+@contextlib.contextmanager
+def saving_recipe(
+    step: dict[str, Any],
+    render: RenderOptions,
+    input: Path | None,
+    path: Path | None,
+    dry_run: bool,
+) -> Iterator[bool]:
+    """Check, then write the recipe of ``step`` to ``path`` (if given) once the render in the
+    ``with`` block has succeeded; the block gets True for ``--dry-run`` (render nothing).
+
+    The recipe is validated first, so a written recipe always reads back. An
+    existing file is refused before any work without ``--overwrite``; a batch
+    writes it once.
+    """
+    if path is None:
+        if dry_run:
+            raise click.UsageError("--dry-run goes with --save-recipe R.json")
+        yield False
+        return
+    from ..errors import OutputExistsError
+    from ..io.atomic import write_text
+    from ..recipe import Recipe
+    from ._files import job
+
+    if path.suffix.lower() != ".json":
+        raise click.BadParameter(
+            f"expected a file name ending in .json, got {str(path)!r}",
+            param_hint="'--save-recipe'",
+        )
+    text = Recipe.from_dict(recipe_of(step, render, input)).dumps()
+    p = job().writes(path, "--save-recipe")
+    key = str(p.resolve())
+    if p.exists() and not render.overwrite and key not in _WRITTEN:
+        raise OutputExistsError(f"{str(p)!r} exists; pass --overwrite to replace it")
+    yield dry_run
+    if _WRITTEN.get(key) != text:
+        write_text(p, text, overwrite=True)
+        _WRITTEN[key] = text
+        click.echo(f"wrote {p}")
+
+
+def _chosen(ctx: click.Context, name: str) -> bool:
+    """Whether the option ``name`` was given on the command line (not its default)."""
+    source = ctx.get_parameter_source(name)
+    return source not in (None, click.core.ParameterSource.DEFAULT)
+
+
+@click.command(
+    epilog=example(
+        "spherewarp zoom room.jpg --at -163,5 --factor 3 --save-recipe zoom.json -o a.jpg",
+        "spherewarp render zoom.json other-room.jpg -o b.jpg",
+        "spherewarp render flight.json room.jpg --time 1.5 -o frame.png",
+    )
+)
+@click.argument("recipe", type=click.Path(dir_okay=False, path_type=Path), metavar="R.json")
+@input_argument
+@click.option(
+    "--time",
+    "time",
+    type=TIME,
+    default=0.0,
+    show_default=True,
+    help="The time in seconds at which to evaluate the recipe's tracks.",
+)
+@render_options
+def render(input: Path, render: RenderOptions, recipe: Path, time: float) -> None:
+    """Render a recipe (R.json, as --save-recipe writes it) on INPUT.
+
+    The recipe's options (--interp, --supersample, --antialias, --size,
+    --background) apply unless given here.
+    """
+    from dataclasses import replace
+
+    from ..recipe import Recipe
+    from ..render import warp
+    from ._common import load_input, output_path, save_output
+    from ._files import job
+
+    job().reads(recipe, "recipe")
+    r = Recipe.load(recipe)
+    frame = r.at(time)
+    ctx = click.get_current_context()
+    kwargs = dict(frame.warp_kwargs)
+    changes: dict[str, Any] = {}
+    for name in ("interp", "supersample", "antialias"):
+        if _chosen(ctx, name):
+            kwargs[name] = getattr(render, name)
+        else:
+            changes[name] = kwargs[name]
+    if not _chosen(ctx, "size") and "output_shape" in kwargs:
+        h, w = kwargs["output_shape"]
+        changes["size"] = (w, h)
+    if not _chosen(ctx, "background") and frame.background is not None:
+        changes["background"] = frame.background
+    render = replace(render, **changes)
+
+    from .mobius_cmds import _output_gpano, check_output_suffix
+
+    check_output_suffix(output_path(render, input, "render"))  # refuse a bad output early
+    src = load_input(input, render)
+    out = warp(src.pixels, frame.map, **render.warp_kwargs(src.pixels))
+    gpano: Any = True
+    if frame.map.as_mobius() is not None:
+        gpano = _output_gpano(src, out.shape, frame.map.as_mobius().inverse(), "render")
+    save_output(out, src, render, command="render", gpano=gpano)
