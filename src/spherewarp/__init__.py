@@ -130,9 +130,9 @@ if TYPE_CHECKING:  # pragma: no cover
     from .maps.expression import ExpressionMap
     from .maps.mobius import Mobius
     from .maps.rational import Rational, fit_rational
+    from .recipe import Recipe, RecipeError
     from .render.warp import push, warp
     from .splitscreen import splitscreen
-    from .recipe import Recipe, RecipeError
     from .testpattern import make_test_pattern
 
 

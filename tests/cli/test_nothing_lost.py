@@ -42,6 +42,7 @@ CASES: dict[str, tuple[list[str], list[str]]] = {
     "peirce": (["peirce", "{a}"], ["a"]),
     "peirce-inverse": (["peirce", "{a}", "--inverse"], ["a"]),
     "torus": (["torus", "{a}"], ["a"]),
+    "render": (["render", "{r}", "{a}"], ["a", "r"]),
 }
 
 
@@ -55,7 +56,13 @@ def inputs(workdir: Path) -> dict[str, Path]:
     a = np.stack([x * 4, y * 8, (x + y) * 2], -1).astype(np.uint8)
     mask = np.zeros((H, W, 3), np.uint8)
     mask[12:20, 28:36] = 255  # a hole in front
-    return {"a": write_image(workdir / "a.png", a), "b": write_image(workdir / "b.png", mask)}
+    recipe = workdir / "r.json"
+    recipe.write_text('{"spherewarp": 1, "steps": [{"rotate": {"yaw": 10}}]}')
+    return {
+        "a": write_image(workdir / "a.png", a),
+        "b": write_image(workdir / "b.png", mask),
+        "r": recipe,
+    }
 
 
 def _aliases(workdir: Path, target: Path) -> dict[str, Path]:
@@ -81,7 +88,8 @@ def _check_refused(workdir: Path, inputs: dict[str, Path], args: list[str], opti
 
 
 def _fill(args: list[str], inputs: dict[str, Path]) -> list[str]:
-    return [a.format(a=inputs["a"].name, b=inputs["b"].name) for a in args]
+    names = {k: inputs[k].name for k in ("a", "b", "r")}
+    return [a.format(**names) for a in args]
 
 
 @pytest.mark.parametrize("case", sorted(CASES))

@@ -92,7 +92,9 @@ def test_existing_recipe_is_refused_before_any_work(tmp_path, pano):
 def test_save_recipe_may_not_be_the_input(tmp_path, pano):
     a, _ = pano
     err = fails(None, "rotate", a, "--yaw", "3", "--save-recipe", a, "--overwrite")
-    assert "json" in err or "is the input" in err
+    assert "--save-recipe" in err and "is the input" in err
+    err = fails(None, "rotate", a, "--yaw", "3", "--save-recipe", tmp_path / "r.txt")
+    assert "ending in .json" in err
 
 
 def test_render_at_a_time_and_the_recipes_options(tmp_path, pano):

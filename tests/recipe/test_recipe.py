@@ -486,3 +486,21 @@ def test_bad_recipes_fail_the_schema_too(data):
 
     schema = json_schema()
     assert not _check(schema, data, schema)
+
+
+def test_the_readme_recipe_is_valid():
+    import re
+    from pathlib import Path
+
+    from spherewarp.recipe.schema import json_schema
+
+    text = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
+    blocks = re.findall(r"^```json\n(.*?)^```", text, re.MULTILINE | re.DOTALL)
+    assert blocks
+    schema = json_schema()
+    for block in blocks:
+        data = json.loads(block)
+        assert _check(schema, data, schema)
+        r = Recipe.from_dict(data)
+        assert r.animated and r.duration == 4
+        assert r.step_values(1, 4.0)["factor"] == pytest.approx(8.0)

@@ -89,13 +89,13 @@ def saving_recipe(
     from ..recipe import Recipe
     from ._files import job
 
+    p = job().writes(path, "--save-recipe")  # never an input, nor another output
     if path.suffix.lower() != ".json":
         raise click.BadParameter(
             f"expected a file name ending in .json, got {str(path)!r}",
             param_hint="'--save-recipe'",
         )
     text = Recipe.from_dict(recipe_of(step, render, input)).dumps()
-    p = job().writes(path, "--save-recipe")
     key = str(p.resolve())
     if p.exists() and not render.overwrite and key not in _WRITTEN:
         raise OutputExistsError(f"{str(p)!r} exists; pass --overwrite to replace it")
