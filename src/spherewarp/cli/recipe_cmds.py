@@ -18,7 +18,7 @@ import click
 
 from ._common import RealType, RenderOptions, example, input_argument, render_options
 
-__all__ = ["render", "recipe_options", "saving_recipe", "recipe_of"]
+__all__ = ["render", "animate", "recipe_options", "saving_recipe", "recipe_of"]
 
 TIME = RealType("a time in seconds", "1.5", metavar="T")
 
@@ -112,6 +112,37 @@ def _chosen(ctx: click.Context, name: str) -> bool:
     return source not in (None, click.core.ParameterSource.DEFAULT)
 
 
+def _with_recipe_options(ctx: click.Context, render: RenderOptions, frame: Any) -> Any:
+    """``render`` with the recipe's interp/supersample/antialias/size/background, except
+    those given on the command line; and the ``warp`` keyword arguments."""
+    from dataclasses import replace
+
+    kwargs = dict(frame.warp_kwargs)
+    changes: dict[str, Any] = {}
+    for name in ("interp", "supersample", "antialias"):
+        if not _chosen(ctx, name):
+            changes[name] = kwargs[name]
+    if not _chosen(ctx, "size") and "output_shape" in kwargs:
+        h, w = kwargs["output_shape"]
+        changes["size"] = (w, h)
+    if not _chosen(ctx, "background") and frame.background is not None:
+        changes["background"] = frame.background
+    return replace(render, **changes)
+
+
+def _render_frame(src: Any, frame: Any, render: RenderOptions, command: str) -> tuple[Any, Any]:
+    """The pixels of one frame and the GPano to write with them."""
+    from ..render import warp
+    from .mobius_cmds import _output_gpano
+
+    out = warp(src.pixels, frame.map, **render.warp_kwargs(src.pixels))
+    gpano: Any = True
+    moves = frame.map.as_mobius()
+    if moves is not None:
+        gpano = _output_gpano(src, out.shape, moves.inverse(), command)
+    return out, gpano
+
+
 @click.command(
     epilog=example(
         "spherewarp zoom room.jpg --at -163,5 --factor 3 --save-recipe zoom.json -o a.jpg",
@@ -136,37 +167,84 @@ def render(input: Path, render: RenderOptions, recipe: Path, time: float) -> Non
     The recipe's options (--interp, --supersample, --antialias, --size,
     --background) apply unless given here.
     """
-    from dataclasses import replace
-
     from ..recipe import Recipe
-    from ..render import warp
     from ._common import load_input, output_path, save_output
     from ._files import job
+    from .mobius_cmds import check_output_suffix
+
+    job().reads(recipe, "recipe")
+    frame = Recipe.load(recipe).at(time)
+    render = _with_recipe_options(click.get_current_context(), render, frame)
+    check_output_suffix(output_path(render, input, "render"))  # refuse a bad output early
+    src = load_input(input, render)
+    out, gpano = _render_frame(src, frame, render, "render")
+    save_output(out, src, render, command="render", gpano=gpano)
+
+
+FPS = RealType("frames per second", "24 or 29.97", metavar="F", gt=0, le=1000)
+DURATION = RealType("a duration in seconds", "2.5", metavar="S", gt=0, le=86400)
+#: the most frames one animate run writes
+MAX_FRAMES = 100000
+
+
+@click.command(
+    epilog=example(
+        "spherewarp animate spin.json room.jpg --fps 24 -o frames/",
+        "spherewarp animate flight.json room.jpg --fps 30 --duration 4 -o frames/%04d.png",
+    )
+)
+@click.argument("recipe", type=click.Path(dir_okay=False, path_type=Path), metavar="R.json")
+@input_argument
+@click.option("--fps", type=FPS, required=True, help="Frames per second.")
+@click.option(
+    "--duration",
+    type=DURATION,
+    help="Seconds to render (default: the recipe's duration).",
+)
+@render_options
+def animate(
+    input: Path, render: RenderOptions, recipe: Path, fps: float, duration: float | None
+) -> None:
+    """Render the frames of a timed recipe (R.json) on INPUT, as numbered images.
+
+    Frame k shows the recipe at time k / FPS, from 0 to the duration; a
+    looping recipe ("loop": true) stops one frame short, so the frame after
+    the last is the first. -o names the frames: OUT.png gives OUT_0000.png,
+    OUT_0001.png, ...; a pattern such as frames/%04d.png, or a directory
+    (-o frames/: frames/INPUT-animate_0000.png, ...). PNG, TIFF, EXR, JPEG or
+    WebP, by the extension (default: INPUT's). The recipe's options apply
+    unless given here.
+    """
+    from dataclasses import replace
+
+    from ..errors import InvalidValueError
+    from ..recipe import Recipe
+    from ._common import load_input, output_name, output_path, save_output
+    from ._files import job
+    from .droste_cmds import frame_paths
+    from .mobius_cmds import check_output_suffix
 
     job().reads(recipe, "recipe")
     r = Recipe.load(recipe)
-    frame = r.at(time)
+    if duration is None and r.duration is None:
+        raise click.UsageError(f"{recipe} has no duration; give --duration S")
+    seconds = r.duration if duration is None else duration
+    if round(seconds * fps) > MAX_FRAMES:
+        raise InvalidValueError(
+            f"--fps {fps:g} for {seconds:g} s is {round(seconds * fps)} frames; "
+            f"expected at most {MAX_FRAMES}"
+        )
+    times = r.frame_times(fps, seconds)
     ctx = click.get_current_context()
-    kwargs = dict(frame.warp_kwargs)
-    changes: dict[str, Any] = {}
-    for name in ("interp", "supersample", "antialias"):
-        if _chosen(ctx, name):
-            kwargs[name] = getattr(render, name)
-        else:
-            changes[name] = kwargs[name]
-    if not _chosen(ctx, "size") and "output_shape" in kwargs:
-        h, w = kwargs["output_shape"]
-        changes["size"] = (w, h)
-    if not _chosen(ctx, "background") and frame.background is not None:
-        changes["background"] = frame.background
-    render = replace(render, **changes)
-
-    from .mobius_cmds import _output_gpano, check_output_suffix
-
-    check_output_suffix(output_path(render, input, "render"))  # refuse a bad output early
+    render = _with_recipe_options(ctx, render, r.at(0.0))
+    pattern = output_name(render, input, "animate")
+    paths = frame_paths(pattern, len(times))
+    per_frame = [replace(render, output=p, output_dir=False) for p in paths]
+    for one in per_frame:  # refuse inputs, existing files and bad names before any work
+        check_output_suffix(output_path(one, input, "animate", given=str(pattern)))
     src = load_input(input, render)
-    out = warp(src.pixels, frame.map, **render.warp_kwargs(src.pixels))
-    gpano: Any = True
-    if frame.map.as_mobius() is not None:
-        gpano = _output_gpano(src, out.shape, frame.map.as_mobius().inverse(), "render")
-    save_output(out, src, render, command="render", gpano=gpano)
+    for p in {p.parent for p in paths}:
+        p.mkdir(parents=True, exist_ok=True)
+    for t, one in zip(times, per_frame, strict=True):
+        out, gpano = _render_frame(src, r.at(t), one, "animate")
+        save_output(out, src, one, command="animate", gpano=gpano)
