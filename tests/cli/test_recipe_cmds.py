@@ -19,6 +19,9 @@ COMMANDS = [
     ("power", "--n", "1/2", "--branch-points", "0,0", "180,0", "--look-at", "0,90"),
     ("exp", "--lam", "2", "--size", "96x48"),
     ("map", "--expr", "z**2 + 0.5*z", "--chart", "front", "--interp", "bicubic"),
+    ("lattes", "--alpha", "1+1j", "--antialias", "adaptive"),
+    ("droste", "--center", "0,0", "--inner-radius", "20", "--phase", "0.3"),
+    ("droste", "--frame", "-20,15", "20,15", "20,-15", "-20,-15", "--twist", "--scale", "8"),
 ]
 
 
@@ -170,3 +173,31 @@ def test_render_refuses_to_write_over_the_recipe(tmp_path, pano):
     r.write_text('{"spherewarp": 1, "steps": []}')
     err = fails(None, "render", r, a, "-o", r, "--overwrite")
     assert "is the recipe" in err
+
+
+def test_droste_frames_recipe_animates_to_the_same_frames(tmp_path, pano):
+    a, _ = pano
+    r = tmp_path / "loop.json"
+    args = ["--center", "0,0", "--inner-radius", "20", "--scale", "4", "-q"]
+    ok(None, "droste", a, *args, "--frames", "4", "-o", tmp_path / "cmd.png", "--save-recipe", r)
+    data = json.loads(r.read_text())
+    assert data["loop"] is True and data["duration"] == 1
+    ok(None, "animate", r, a, "--fps", "4", "-o", tmp_path / "rec.png", "-q")
+    for k in range(4):
+        cmd = read_image(tmp_path / f"cmd_{k:04d}.png").pixels
+        assert np.array_equal(cmd, read_image(tmp_path / f"rec_{k:04d}.png").pixels), k
+
+
+def test_save_recipe_refuses_what_a_recipe_cannot_hold_yet(tmp_path, pano):
+    a, b = pano
+    err = fails(None, "droste", a, "--mask", b, "--save-recipe", tmp_path / "r.json")
+    assert "--save-recipe takes" in err
+    assert not (tmp_path / "r.json").exists()
+
+
+def test_lattes_dry_run_needs_no_input(tmp_path):
+    r = tmp_path / "l.json"
+    ok(None, "lattes", "--alpha", "2+1j", "--save-recipe", r, "--dry-run")
+    assert json.loads(r.read_text())["steps"] == [
+        {"lattes": {"alpha": "2+1j", "lattice": "square", "exact": False}}
+    ]

@@ -504,3 +504,19 @@ def test_the_readme_recipe_is_valid():
         r = Recipe.from_dict(data)
         assert r.animated and r.duration == 4
         assert r.step_values(1, 4.0)["factor"] == pytest.approx(8.0)
+
+
+def test_mobius_amount_moves_at_constant_speed_along_its_group():
+    amount = {"keyframes": [[0, 0], [1, 1]]}
+    m = [[1 + 1j, 0.3], [0.2, 1 - 0.5j]]
+    step = {"mobius": {"matrix": [[1, 1], 0.3, 0.2, [1, -0.5]], "amount": amount}}
+    r = recipe(step, duration=1)
+    assert r.map_at(0.0).is_identity(1e-12)
+    assert r.map_at(1.0) == Mobius(m).inverse()
+    times = r.frame_times(10)
+    steps = [
+        r.map_at(b).inverse() @ r.map_at(a) for a, b in zip(times[:-1], times[1:], strict=True)
+    ]
+    tenth = Mobius(m) ** 0.1
+    for s in steps:
+        assert np.allclose(s.matrix / s.matrix[0, 0], tenth.matrix / tenth.matrix[0, 0])

@@ -44,9 +44,13 @@ def recipe_options(func: Callable) -> Callable:
 
 
 def recipe_of(
-    step: dict[str, Any], render: RenderOptions, input: Path | None = None
+    step: dict[str, Any],
+    render: RenderOptions,
+    input: Path | None = None,
+    top: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
-    """The recipe data of one step rendered with ``render``'s options."""
+    """The recipe data of one step rendered with ``render``'s options (``top``: more
+    top-level fields, such as ``duration`` and ``loop``)."""
     options: dict[str, Any] = {
         "interp": render.interp,
         "supersample": render.supersample,
@@ -57,6 +61,7 @@ def recipe_of(
     data: dict[str, Any] = {"spherewarp": 1}
     if input is not None:
         data["inputs"] = [input.name]
+    data.update(top or {})
     data["steps"] = [{k: {n: v for n, v in p.items() if v is not None} for k, p in step.items()}]
     if render.size is not None:
         data["view"] = {"size": list(render.size)}
@@ -71,6 +76,7 @@ def saving_recipe(
     input: Path | None,
     path: Path | None,
     dry_run: bool,
+    top: dict[str, Any] | None = None,
 ) -> Iterator[bool]:
     """Check, then write the recipe of ``step`` to ``path`` (if given) once the render in the
     ``with`` block has succeeded; the block gets True for ``--dry-run`` (render nothing).
@@ -95,7 +101,7 @@ def saving_recipe(
             f"expected a file name ending in .json, got {str(path)!r}",
             param_hint="'--save-recipe'",
         )
-    text = Recipe.from_dict(recipe_of(step, render, input)).dumps()
+    text = Recipe.from_dict(recipe_of(step, render, input, top)).dumps()
     key = str(p.resolve())
     if p.exists() and not render.overwrite and key not in _WRITTEN:
         raise OutputExistsError(f"{str(p)!r} exists; pass --overwrite to replace it")

@@ -181,7 +181,10 @@ def _check_mobius(given: set[str], path: str) -> None:
 
 def _build_mobius(v: dict[str, Any]) -> Any:
     matrix = None if v["matrix"] is None else tuple(_complex(e) for e in v["matrix"])
-    return mobius_forward(matrix, v["from"], v["to"]).inverse()
+    forward = mobius_forward(matrix, v["from"], v["to"])
+    if v["amount"] != 1.0:
+        forward = forward ** v["amount"]
+    return forward.inverse()
 
 
 def _build_power(v: dict[str, Any]) -> Any:
@@ -213,7 +216,7 @@ def _check_droste(given: set[str], path: str) -> None:
     _one_of(given, path, ("frame",), ("inner_radius",))
     if "inner_radius" in given and "center" not in given:
         raise RecipeError(path, "'inner_radius' needs 'center'")
-    if "twist" not in given and given & {"strands", "periodicity"}:
+    if given & {"strands", "periodicity"} and "twist" not in given:
         raise RecipeError(path, "'strands' and 'periodicity' go with 'twist': true")
 
 
@@ -269,7 +272,16 @@ EFFECTS: dict[str, Effect] = {
         Effect(
             "mobius",
             "any Möbius transformation: a matrix, or three points to three points",
-            {"matrix": Matrix(), "from": Points(3), "to": Points(3)},
+            {
+                "matrix": Matrix(),
+                "from": Points(3),
+                "to": Points(3),
+                "amount": Real(
+                    default=1.0,
+                    help="apply M**amount (0: nothing, 1: the map); a linear track moves "
+                    "at constant speed along the one-parameter group through M",
+                ),
+            },
             _build_mobius,
             _check_mobius,
         ),
@@ -317,15 +329,15 @@ EFFECTS: dict[str, Effect] = {
             "the room inside its own picture frame (a frame by corners or a round hole)",
             {
                 "center": Point(),
-                "frame": Points(None, n_min=3),
-                "inner_radius": Real(gt=0, lt=180),
+                "frame": Points(4),
+                "inner_radius": Real(),
                 "far": Point(),
                 "scale": RealOrAuto(gt=1, default="auto"),
-                "border": Real(ge=0, default=0.0),
-                "margin": Real(ge=0),
+                "border": Real(default=0.0),
+                "margin": Real(),
                 "twist": Flag(),
-                "strands": Integer(ge=1, le=64, default=1),
-                "periodicity": Integer(ge=1, le=64, default=1),
+                "strands": Integer(default=1),
+                "periodicity": Integer(ge=0, le=1000, default=1),
                 "phase": Real(default=0.0),
             },
             _build_droste,
