@@ -6,7 +6,7 @@ import json
 
 import numpy as np
 import pytest
-from _cli import fails, ok
+from _cli import fails, ok, run
 
 from spherewarp.io import read_image, write_image
 
@@ -201,3 +201,29 @@ def test_lattes_dry_run_needs_no_input(tmp_path):
     assert json.loads(r.read_text())["steps"] == [
         {"lattes": {"alpha": "2+1j", "lattice": "square", "exact": False}}
     ]
+
+
+def test_a_batch_writes_one_recipe_naming_its_inputs(tmp_path, pano):
+    a, b = pano
+    r = tmp_path / "r.json"
+    ok(None, "rotate", a, b, "--yaw", "20", "--save-recipe", r, "-o", f"{tmp_path / 'out'}/")
+    assert json.loads(r.read_text())["inputs"] == ["a.png", "b.png"]
+    assert len(list((tmp_path / "out").iterdir())) == 2
+    # inputs whose recipes differ (a pixel is another point on another size) say so
+    z = tmp_path / "z.json"
+    code, _, err = run(
+        None,
+        "zoom",
+        a,
+        b,
+        "--at-pixel",
+        "10,10",
+        "--factor",
+        "2",
+        "--save-recipe",
+        z,
+        "-o",
+        f"{tmp_path / 'zo'}/",
+    )
+    assert code == 2 and "gives another recipe" in err and "Traceback" not in err
+    assert json.loads(z.read_text())["inputs"] == ["a.png"]

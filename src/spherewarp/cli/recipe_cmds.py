@@ -22,8 +22,8 @@ __all__ = ["render", "animate", "recipe_options", "saving_recipe", "recipe_of"]
 
 TIME = RealType("a time in seconds", "1.5", metavar="T")
 
-#: recipe files this process wrote (path -> text): a batch writes its recipe once
-_WRITTEN: dict[str, str] = {}
+#: recipe files this process wrote (path -> data): a batch writes one recipe, naming its inputs
+_WRITTEN: dict[str, dict[str, Any]] = {}
 
 
 def recipe_options(func: Callable) -> Callable:
@@ -90,25 +90,37 @@ def saving_recipe(
             raise click.UsageError("--dry-run goes with --save-recipe R.json")
         yield False
         return
-    from ..errors import OutputExistsError
+    from ..errors import InvalidValueError, OutputExistsError
     from ..io.atomic import write_text
     from ..recipe import Recipe
     from ._files import job
 
-    p = job().writes(path, "--save-recipe")  # never an input, nor another output
+    key = str(path.resolve())
+    earlier = _WRITTEN.get(key)
+    p = path
+    if earlier is None:  # (a later input of a batch adds itself to the recipe written)
+        p = job().writes(path, "--save-recipe")  # never an input, nor another output
     if path.suffix.lower() != ".json":
         raise click.BadParameter(
             f"expected a file name ending in .json, got {str(path)!r}",
             param_hint="'--save-recipe'",
         )
-    text = Recipe.from_dict(recipe_of(step, render, input, top)).dumps()
-    key = str(p.resolve())
-    if p.exists() and not render.overwrite and key not in _WRITTEN:
+    data = recipe_of(step, render, input, top)
+    if earlier is not None:  # an earlier input of this batch wrote it: add this input
+        if {**earlier, "inputs": None} != {**data, "inputs": None}:
+            raise InvalidValueError(
+                f"--save-recipe {str(p)!r}: this input gives another recipe than the "
+                "earlier inputs of the batch (e.g. --at-pixel on another size); save one "
+                "input's recipe at a time"
+            )
+        data["inputs"] = earlier.get("inputs", []) + data.get("inputs", [])
+    text = Recipe.from_dict(data).dumps()
+    if p.exists() and not render.overwrite and earlier is None:
         raise OutputExistsError(f"{str(p)!r} exists; pass --overwrite to replace it")
     yield dry_run
-    if _WRITTEN.get(key) != text:
+    if earlier != data:
         write_text(p, text, overwrite=True)
-        _WRITTEN[key] = text
+        _WRITTEN[key] = data
         click.echo(f"wrote {p}")
 
 
