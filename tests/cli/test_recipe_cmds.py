@@ -227,3 +227,29 @@ def test_a_batch_writes_one_recipe_naming_its_inputs(tmp_path, pano):
     )
     assert code == 2 and "gives another recipe" in err and "Traceback" not in err
     assert json.loads(z.read_text())["inputs"] == ["a.png"]
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("rotate", "--yaw", "30"),
+        ("rotate", "--pitch", "10"),
+        ("zoom", "--at", "10,20", "--factor", "2"),
+        ("zoom", "--at", "40,0", "--factor", "2", "--center"),
+        ("mobius", "--matrix", "1j,0,0,-1j"),
+        ("power", "--n", "2"),
+    ],
+    ids=lambda a: " ".join(a[:2]),
+)
+def test_render_carries_the_gpano_pose_as_the_command_does(tmp_path, args):
+    from spherewarp.io import GPano
+
+    px = np.random.default_rng(0).integers(0, 255, (32, 64, 3), dtype=np.uint8)
+    src = tmp_path / "posed.png"
+    write_image(src, px, gpano=GPano(full_width=64, full_height=32, pose_heading=100.0))
+    r = tmp_path / "r.json"
+    ok(None, args[0], src, *args[1:], "--save-recipe", r, "-o", tmp_path / "cmd.png", "-q")
+    ok(None, "render", r, src, "-o", tmp_path / "rec.png", "-q")
+    a, b = read_image(tmp_path / "cmd.png").gpano, read_image(tmp_path / "rec.png").gpano
+    pose = (a.pose_heading, a.pose_pitch, a.pose_roll) if a is not None else None
+    assert pose == ((b.pose_heading, b.pose_pitch, b.pose_roll) if b is not None else None)

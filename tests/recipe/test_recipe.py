@@ -520,3 +520,10 @@ def test_mobius_amount_moves_at_constant_speed_along_its_group():
     tenth = Mobius(m) ** 0.1
     for s in steps:
         assert np.allclose(s.matrix / s.matrix[0, 0], tenth.matrix / tenth.matrix[0, 0])
+
+
+def test_pose_follows_the_moebius_steps_only():
+    r = recipe({"rotate": {"yaw": 30}}, {"zoom": {"at": [0, 0], "factor": 2}})
+    assert r.at().pose == Mobius.from_yaw_pitch_roll(30, 0, 0).inverse()
+    assert recipe({"power": {"n": 2}}).at().pose is None
+    assert recipe({"rotate": {"yaw": 30}}, {"exp": {}}).at().pose is None

@@ -154,10 +154,9 @@ def _render_frame(src: Any, frame: Any, render: RenderOptions, command: str) -> 
     from .mobius_cmds import _output_gpano
 
     out = warp(src.pixels, frame.map, **render.warp_kwargs(src.pixels))
-    gpano: Any = True
-    moves = frame.map.as_mobius()
-    if moves is not None:
-        gpano = _output_gpano(src, out.shape, moves.inverse(), command)
+    gpano: Any = True  # after a branched map no pose holds, as with those commands
+    if frame.pose is not None:
+        gpano = _output_gpano(src, out.shape, frame.pose, command)
     return out, gpano
 
 

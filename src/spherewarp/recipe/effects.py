@@ -142,6 +142,9 @@ class Effect:
     build: Callable[[dict[str, Any]], Any]
     check: Callable[[set[str], str], None] = field(default=lambda given, path: None)
     supersample: int | None = None
+    #: the turn of the sphere a recorded camera pose must follow (as the command's own GPano
+    #: handling), or None for an effect after which no pose holds
+    pose: Callable[[dict[str, Any]], Any] | None = None
 
 
 def _complex(pair: tuple[float, float]) -> complex:
@@ -165,7 +168,15 @@ def _check_rotate(given: set[str], path: str) -> None:
 
 
 def _build_rotate(v: dict[str, Any]) -> Any:
-    return rotate_forward(v["yaw"], v["pitch"], v["roll"], v["axis"], v["angle"]).inverse()
+    return _forward_rotate(v).inverse()
+
+
+def _forward_rotate(v: dict[str, Any]) -> Any:
+    return rotate_forward(v["yaw"], v["pitch"], v["roll"], v["axis"], v["angle"])
+
+
+def _pose_zoom(v: dict[str, Any]) -> Any:
+    return zoom_forward(v["at"], v["factor"], v["center"])[1]
 
 
 def _build_zoom(v: dict[str, Any]) -> Any:
@@ -179,12 +190,16 @@ def _check_mobius(given: set[str], path: str) -> None:
         raise RecipeError(path, f"'from' and 'to' go together; '{missing}' is missing")
 
 
-def _build_mobius(v: dict[str, Any]) -> Any:
+def _forward_mobius(v: dict[str, Any]) -> Any:
     matrix = None if v["matrix"] is None else tuple(_complex(e) for e in v["matrix"])
     forward = mobius_forward(matrix, v["from"], v["to"])
     if v["amount"] != 1.0:
         forward = forward ** v["amount"]
-    return forward.inverse()
+    return forward
+
+
+def _build_mobius(v: dict[str, Any]) -> Any:
+    return _forward_mobius(v).inverse()
 
 
 def _build_power(v: dict[str, Any]) -> Any:
@@ -258,6 +273,7 @@ EFFECTS: dict[str, Effect] = {
             },
             _build_rotate,
             _check_rotate,
+            pose=_forward_rotate,
         ),
         Effect(
             "zoom",
@@ -268,6 +284,7 @@ EFFECTS: dict[str, Effect] = {
                 "center": Flag(),
             },
             _build_zoom,
+            pose=_pose_zoom,
         ),
         Effect(
             "mobius",
@@ -284,6 +301,7 @@ EFFECTS: dict[str, Effect] = {
             },
             _build_mobius,
             _check_mobius,
+            pose=_forward_mobius,
         ),
         Effect(
             "power",

@@ -65,19 +65,28 @@ class Step:
     def animated(self) -> bool:
         return any(has_track(v) for v in self.parsed.values())
 
+    def pose_at(self, t: float) -> Any:
+        """The turn a recorded camera pose must follow, or None (see :class:`Frame`)."""
+        pose = EFFECTS[self.effect].pose
+        return None if pose is None else pose(self.values(t))
+
 
 @dataclass(frozen=True)
 class Frame:
     """What a recipe renders at one time: the map and the keyword arguments of ``warp``.
 
     ``background`` is the colour transparency is flattened onto when written
-    (``--background``), or None.
+    (``--background``), or None. ``pose`` is the turn of the sphere that a
+    camera pose recorded with the input (GPano) must follow, as the effect
+    commands carry it (a zoom keeps it, a rotation turns it), or None when a
+    step is not a Möbius map (the pose no longer describes the pixels).
     """
 
     map: Any
     warp_kwargs: dict[str, Any]
     background: str | None = None
     view: dict[str, Any] = field(default_factory=dict)
+    pose: Any = None
 
 
 class Recipe:
@@ -235,7 +244,26 @@ class Recipe:
 
     def at(self, t: float = 0.0) -> Frame:
         """The map and the render options at time ``t``."""
-        return Frame(self.map_at(t), dict(self._warp_kwargs), self._background, dict(self._view))
+        return Frame(
+            self.map_at(t),
+            dict(self._warp_kwargs),
+            self._background,
+            dict(self._view),
+            self.pose_at(t),
+        )
+
+    def pose_at(self, t: float = 0.0) -> Any:
+        """The turn a recorded camera pose must follow at time ``t`` (see :class:`Frame`)."""
+        from ..maps import Mobius
+
+        tt = self.time(t)
+        total = Mobius.identity()
+        for s in self._steps:  # step 1 moves the content first
+            pose = s.pose_at(tt)
+            if pose is None:
+                return None
+            total = pose @ total
+        return total
 
     def render(self, image: Any, t: float = 0.0, **warp_kwargs: Any) -> Any:
         """Render the recipe on ``image`` at time ``t`` with :func:`spherewarp.warp`.
