@@ -234,7 +234,7 @@ BAD = [
     ),
     (
         steps('{"rotate": {"yaw": 1}}, {"zoom": {"at": [0, 0], "factor": -1}}'),
-        "steps[1].zoom.factor: expected a number > 0",
+        "steps[1].zoom.factor: expected a number >= 1e-09 and <= 1e+09, got -1",
     ),
     (
         steps('{"zoom": {"at": [0, 0], "factr": 2}}'),

@@ -280,7 +280,7 @@ EFFECTS: dict[str, Effect] = {
             "zoom toward a point (a hyperbolic Möbius map)",
             {
                 "at": Point(required=True),
-                "factor": Real(gt=0, ge=1e-9, le=1e9, required=True),
+                "factor": Real(ge=1e-9, le=1e9, required=True),
                 "center": Flag(),
             },
             _build_zoom,
