@@ -34,6 +34,9 @@ Output grids (:mod:`spherewarp.grids`)
     torus; ``warp(..., grid=)``), :func:`from_grid` (such a picture back to the sphere).
 Images (:mod:`spherewarp.io`)
     :func:`read_image`, :func:`write_image`.
+Recipes (:mod:`spherewarp.recipe`)
+    :class:`Recipe` (load, save, validate, ``at(t)``, ``render``): the
+    serialisable render request, with tracks over time; :class:`RecipeError`.
 Test pattern (:mod:`spherewarp.testpattern`)
     :func:`make_test_pattern`.
 Coordinates (:mod:`spherewarp.coords`)
@@ -88,6 +91,8 @@ _LAZY = {
     "make_test_pattern": "spherewarp.testpattern",
     "make_grid": "spherewarp.grids",
     "from_grid": "spherewarp.grids",
+    "Recipe": "spherewarp.recipe",
+    "RecipeError": "spherewarp.recipe",
 }
 
 __all__ = [
@@ -119,6 +124,8 @@ __all__ = [
     "make_test_pattern",
     "make_grid",
     "from_grid",
+    "Recipe",
+    "RecipeError",
 ]
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -131,6 +138,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .maps.expression import ExpressionMap
     from .maps.mobius import Mobius
     from .maps.rational import Rational, fit_rational
+    from .recipe import Recipe, RecipeError
     from .render.warp import push, warp
     from .splitscreen import splitscreen
     from .testpattern import make_test_pattern

@@ -44,6 +44,7 @@ CASES: dict[str, tuple[list[str], list[str]]] = {
     "torus": (["torus", "{a}"], ["a"]),
     "project": (["project", "{a}", "--to", "little-planet"], ["a"]),
     "project-from": (["project", "{a}", "--from", "cubemap-6x1"], ["a"]),
+    "render": (["render", "{r}", "{a}"], ["a", "r"]),
 }
 
 
@@ -57,7 +58,13 @@ def inputs(workdir: Path) -> dict[str, Path]:
     a = np.stack([x * 4, y * 8, (x + y) * 2], -1).astype(np.uint8)
     mask = np.zeros((H, W, 3), np.uint8)
     mask[12:20, 28:36] = 255  # a hole in front
-    return {"a": write_image(workdir / "a.png", a), "b": write_image(workdir / "b.png", mask)}
+    recipe = workdir / "r.json"
+    recipe.write_text('{"spherewarp": 1, "steps": [{"rotate": {"yaw": 10}}]}')
+    return {
+        "a": write_image(workdir / "a.png", a),
+        "b": write_image(workdir / "b.png", mask),
+        "r": recipe,
+    }
 
 
 def _aliases(workdir: Path, target: Path) -> dict[str, Path]:
@@ -83,7 +90,8 @@ def _check_refused(workdir: Path, inputs: dict[str, Path], args: list[str], opti
 
 
 def _fill(args: list[str], inputs: dict[str, Path]) -> list[str]:
-    return [a.format(a=inputs["a"].name, b=inputs["b"].name) for a in args]
+    names = {k: inputs[k].name for k in ("a", "b", "r")}
+    return [a.format(**names) for a in args]
 
 
 @pytest.mark.parametrize("case", sorted(CASES))
@@ -108,6 +116,25 @@ def test_droste_frames_never_overwrite_an_input(workdir, inputs, how):
 
 
 @pytest.mark.parametrize("how", ["direct", "symlink", "hardlink"])
+@pytest.mark.parametrize("target", ["a", "r"])
+def test_animate_frames_never_overwrite_an_input(workdir, inputs, how, target):
+    # a frame named as the panorama or as the recipe (which is read by its content)
+    frame1 = inputs[target].with_name("loop_0001.png")
+    os.replace(inputs[target], frame1)
+    inputs[target] = frame1
+    timed = workdir / "timed.json"
+    timed.write_text(
+        '{"spherewarp": 1, "duration": 1, "steps": [{"rotate": '
+        '{"yaw": {"keyframes": [[0, 0], [1, 90]]}}}]}'
+    )
+    recipe = inputs["r"] if target == "r" else timed
+    pattern = _aliases(workdir, frame1)[how].name.replace("0001", "%04d")
+    args = ["animate", recipe.name, inputs["a"].name, "--fps", "2", "--duration", "1"]
+    args += ["-o", pattern, "--overwrite"]
+    _check_refused(workdir, inputs, args, "-o")
+
+
+@pytest.mark.parametrize("how", ["direct", "symlink", "hardlink"])
 @pytest.mark.parametrize("role", [".obj", ".mtl", "_texture.png"])
 def test_torus_mesh_never_overwrites_an_input(workdir, inputs, role, how):
     # --mesh NAME.obj writes NAME.obj, NAME.mtl and NAME_texture.png: a panorama under each
@@ -124,7 +151,8 @@ def test_torus_mesh_never_overwrites_an_input(workdir, inputs, role, how):
 def test_every_render_command_is_covered():
     from spherewarp.cli import COMMANDS
 
-    covered = {args[0] for args, _ in CASES.values()} | {"testpattern"}
+    # animate: test_animate_frames_never_overwrite_an_input (its frames are numbered)
+    covered = {args[0] for args, _ in CASES.values()} | {"testpattern", "animate"}
     not_rendering = {"info", "fit-rational", "demo"}  # print only; demo reads the bundled sample
     assert set(COMMANDS) - not_rendering == covered
 

@@ -32,6 +32,8 @@ COMMANDS: dict[str, str] = {
     "rotate": "mobius_cmds:rotate",
     "zoom": "mobius_cmds:zoom",
     "mobius": "mobius_cmds:mobius",
+    "render": "recipe_cmds:render",
+    "animate": "recipe_cmds:animate",
     "testpattern": "misc_cmds:testpattern",
     "info": "misc_cmds:info",
     "demo": "misc_cmds:demo",

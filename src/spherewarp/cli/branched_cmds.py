@@ -19,6 +19,7 @@ from typing import Any
 import click
 
 from ._common import POINT, RealType, RenderOptions, example, input_argument, render_options
+from .recipe_cmds import recipe_options, saving_recipe
 
 __all__ = ["power", "exp", "map_cmd", "splitscreen"]
 
@@ -120,9 +121,13 @@ def _render(input: Path, render: RenderOptions, pull_map: Any, command: str) -> 
     save_output(out, src, render, command=command)
 
 
-def _with_view(pull_map: Any, look_at: tuple[float, float] | None) -> Any:
-    view = _look_at(look_at)
-    return pull_map if view is None else pull_map @ view
+def _points(value: Any) -> Any:
+    """A point (or a tuple of points) as recipe JSON lists; None stays None."""
+    if not value:
+        return None
+    if isinstance(value[0], tuple):
+        return [list(p) for p in value]
+    return list(value)
 
 
 @click.command(
@@ -162,6 +167,7 @@ def _with_view(pull_map: Any, look_at: tuple[float, float] | None) -> Any:
     "(in the frame of the branch points); 0 is NumPy's principal branch.",
 )
 @click.option("--look-at", type=POINT, default=None, help=_LOOK_AT_HELP)
+@recipe_options
 @render_options
 def power(
     input: Path,
@@ -171,16 +177,27 @@ def power(
     branch: int,
     cut: float,
     look_at: tuple[float, float] | None,
+    save_recipe: Path | None = None,
+    dry_run: bool = False,
 ) -> None:
     """Pull back by z**n: n copies of the image around two branch points.
 
     With the default chart the branch points are the zenith and the nadir (on
     the ceiling and the floor), and the copies sit side by side.
     """
-    from ..maps.branched import Power
+    from ..recipe.effects import EFFECTS
 
-    pull = Power(exponent, branch_points=branch_points or None, branch=branch, cut=cut)
-    _render(input, render, _with_view(pull, look_at), "power")
+    step = {
+        "n": exponent,
+        "branch_points": _points(branch_points),
+        "branch": branch,
+        "cut": cut,
+        "look_at": _points(look_at),
+    }
+    pull = EFFECTS["power"].build({**step, "branch_points": branch_points or None})
+    with saving_recipe({"power": step}, render, input, save_recipe, dry_run) as dry:
+        if not dry:
+            _render(input, render, pull, "power")
 
 
 @click.command(
@@ -201,6 +218,7 @@ def power(
     "--branch-points", type=POINT, nargs=2, metavar="P Q", default=None, help=_BRANCH_POINTS_HELP
 )
 @click.option("--look-at", type=POINT, default=None, help=_LOOK_AT_HELP)
+@recipe_options
 @render_options
 def exp(
     input: Path,
@@ -208,17 +226,22 @@ def exp(
     lam: float,
     branch_points: tuple[tuple[float, float], tuple[float, float]] | None,
     look_at: tuple[float, float] | None,
+    save_recipe: Path | None = None,
+    dry_run: bool = False,
 ) -> None:
     """Pull back by the exp variant: the image repeats infinitely often horizontally.
 
     The copies shrink toward the back point, where infinitely many of them
     meet; --supersample defaults to 3 here to keep that clean.
     """
-    from ..maps.branched import ExpMap
+    from ..recipe.effects import EFFECTS
 
     render = _supersample(render, EXP_SUPERSAMPLE)
-    pull = ExpMap(lam, branch_points=branch_points or None)
-    _render(input, render, _with_view(pull, look_at), "exp")
+    step = {"lam": lam, "branch_points": _points(branch_points), "look_at": _points(look_at)}
+    pull = EFFECTS["exp"].build({**step, "branch_points": branch_points or None})
+    with saving_recipe({"exp": step}, render, input, save_recipe, dry_run) as dry:
+        if not dry:
+            _render(input, render, pull, "exp")
 
 
 @click.command(
@@ -245,6 +268,7 @@ def exp(
     "front (0 at the front, inf at the back, 1 on the right, i up).",
 )
 @click.option("--look-at", type=POINT, default=None, help=_LOOK_AT_HELP)
+@recipe_options
 @render_options
 def map_cmd(
     input: Path,
@@ -252,12 +276,17 @@ def map_cmd(
     expr: str,
     chart: str,
     look_at: tuple[float, float] | None,
+    save_recipe: Path | None = None,
+    dry_run: bool = False,
 ) -> None:
     """Pull back by a formula in z, parsed safely (no Python eval)."""
-    from ..maps.expression import ExpressionMap
+    from ..recipe.effects import EFFECTS
 
-    pull = ExpressionMap(expr, chart=chart.lower())
-    _render(input, render, _with_view(pull, look_at), "map")
+    step = {"expr": expr, "chart": chart.lower(), "look_at": _points(look_at)}
+    pull = EFFECTS["map"].build({**step, "look_at": look_at})
+    with saving_recipe({"map": step}, render, input, save_recipe, dry_run) as dry:
+        if not dry:
+            _render(input, render, pull, "map")
 
 
 @click.command(

@@ -18,6 +18,7 @@ from typing import Any
 import click
 
 from ._common import POINT, RealType, RenderOptions, example, input_argument, render_options
+from .recipe_cmds import recipe_options, saving_recipe
 
 __all__ = ["droste", "frame_paths"]
 
@@ -207,6 +208,7 @@ def _check_suffix(path: Path) -> None:
     "image d mod K of INPUT, IMG1, ...).",
 )
 @click.option("--print", "print_map", is_flag=True, help="Print the map as JSON, render nothing.")
+@recipe_options
 @render_options
 def droste(
     input: Path,
@@ -228,6 +230,8 @@ def droste(
     periods: float,
     inside: tuple[Path, ...],
     print_map: bool,
+    save_recipe: Path | None = None,
+    dry_run: bool = False,
 ) -> None:
     """Droste effect: the room inside its own picture frame, forever.
 
@@ -256,8 +260,13 @@ def droste(
     view = view.lower()
     if view != "equirect" and frames is not None:
         raise click.UsageError("--frames renders the equirectangular loop; drop --view")
+    if (save_recipe or dry_run) and (mask is not None or inside or view != "equirect"):
+        raise click.UsageError(
+            "--save-recipe takes a frame named by --frame or --inner-radius, rendered as an "
+            "equirectangular image (not --mask, --inside or --view yet)"
+        )
 
-    if not print_map:  # every file read and written, checked before any work
+    if not (print_map or dry_run):  # every file read and written, checked before any work
         if mask is not None:
             job().reads(mask, "--mask image")
         for path in inside:
@@ -298,58 +307,81 @@ def droste(
         click.echo(d.to_json())
         return
 
-    src = load_input(input, render)
-    images = [src.pixels]
-    for path in inside:
-        extra = load_input(path, render, "--inside image")
-        if extra.pixels.dtype != src.pixels.dtype or extra.pixels.shape[2] != src.pixels.shape[2]:
-            from ..errors import InvalidValueError
+    step: dict[str, Any] = {
+        "center": None if center is None else list(center),
+        "frame": None if frame is None else [list(p) for p in frame],
+        "inner_radius": inner_radius,
+        "far": None if far is None else list(far),
+        "scale": scale,
+        "border": border,
+        "margin": margin,
+        "twist": twist,
+        "phase": phase,
+    }
+    top: dict[str, Any] = {}
+    if twist:
+        step.update(strands=strands, periodicity=periodicity)
+    if frames is not None:  # a loop: 'spherewarp animate R.json IN --fps FRAMES' replays it
+        step["phase"] = {"keyframes": [[0, phase], [1, phase + 1]]}
+        top = {"duration": 1, "loop": True}
+    with saving_recipe({"droste": step}, render, input, save_recipe, dry_run, top) as dry:
+        if dry:
+            return
+        src = load_input(input, render)
+        images = [src.pixels]
+        for path in inside:
+            extra = load_input(path, render, "--inside image")
+            if (
+                extra.pixels.dtype != src.pixels.dtype
+                or extra.pixels.shape[2] != src.pixels.shape[2]
+            ):
+                from ..errors import InvalidValueError
 
-            raise InvalidValueError(
-                f"--inside {path}: expected the input's sample type and channels "
-                f"({src.pixels.dtype}, {src.pixels.shape[2]}), got {extra.pixels.dtype}, "
-                f"{extra.pixels.shape[2]}"
+                raise InvalidValueError(
+                    f"--inside {path}: expected the input's sample type and channels "
+                    f"({src.pixels.dtype}, {src.pixels.shape[2]}), got {extra.pixels.dtype}, "
+                    f"{extra.pixels.shape[2]}"
+                )
+            images.append(extra.pixels)
+        kwargs = render.warp_kwargs(src.pixels)
+
+        if view != "equirect":
+            from ..io import write_image
+
+            out = output_path(render, input, "droste-log")
+            height = render.size[1] if render.size is not None else None
+            pixels = dr.log_view(
+                images,
+                d,
+                height=height,
+                periods=periods,
+                plane="input" if view == "log" else "output",
+                interp=render.interp,
+                supersample=render.supersample,
             )
-        images.append(extra.pixels)
-    kwargs = render.warp_kwargs(src.pixels)
+            pixels = convert_for_output(pixels, out, render)
+            written = write_image(
+                out,
+                pixels,
+                icc_profile=src.icc_profile,
+                exif=src.exif,
+                gpano=False,
+                quality=render.quality,
+                overwrite=render.overwrite,
+            )
+            click.echo(f"wrote {written} ({pixels.shape[1]}x{pixels.shape[0]} log plane)")
+            return
 
-    if view != "equirect":
-        from ..io import write_image
+        if frames is None:
+            click.echo(f"droste: scale {d.scale:.4g}" + (" (auto)" if scale == "auto" else ""))
+            save_output(dr.droste_image(images, d, **kwargs), src, render, command="droste")
+            return
 
-        out = output_path(render, input, "droste-log")
-        height = render.size[1] if render.size is not None else None
-        pixels = dr.log_view(
-            images,
-            d,
-            height=height,
-            periods=periods,
-            plane="input" if view == "log" else "output",
-            interp=render.interp,
-            supersample=render.supersample,
-        )
-        pixels = convert_for_output(pixels, out, render)
-        written = write_image(
-            out,
-            pixels,
-            icc_profile=src.icc_profile,
-            exif=src.exif,
-            gpano=False,
-            quality=render.quality,
-            overwrite=render.overwrite,
-        )
-        click.echo(f"wrote {written} ({pixels.shape[1]}x{pixels.shape[0]} log plane)")
-        return
-
-    if frames is None:
-        click.echo(f"droste: scale {d.scale:.4g}" + (" (auto)" if scale == "auto" else ""))
-        save_output(dr.droste_image(images, d, **kwargs), src, render, command="droste")
-        return
-
-    per_frame = [replace(render, output=p, output_dir=False) for p in paths]
-    for p in {p.parent for p in paths}:
-        p.mkdir(parents=True, exist_ok=True)
-    click.echo(f"droste: scale {d.scale:.4g}, {frames} frames")
-    for r, pixels in zip(
-        per_frame, dr.droste_frames(images, d, frames, start=phase, **kwargs), strict=True
-    ):
-        save_output(pixels, src, r, command="droste")  # atomic, as every image written
+        per_frame = [replace(render, output=p, output_dir=False) for p in paths]
+        for p in {p.parent for p in paths}:
+            p.mkdir(parents=True, exist_ok=True)
+        click.echo(f"droste: scale {d.scale:.4g}, {frames} frames")
+        for r, pixels in zip(
+            per_frame, dr.droste_frames(images, d, frames, start=phase, **kwargs), strict=True
+        ):
+            save_output(pixels, src, r, command="droste")  # atomic, as every image written

@@ -14,6 +14,7 @@ from typing import Any
 import click
 
 from ._common import RenderOptions, example, input_argument, render_options, save_output
+from .recipe_cmds import recipe_options, saving_recipe
 
 __all__ = ["lattes", "fit_rational_cmd", "peirce", "torus"]
 
@@ -71,6 +72,7 @@ def _json_of_fit(data: dict[str, Any]) -> str:
     help="Print the fitted rational map as JSON (coefficients [re, im], highest degree "
     "first) instead of rendering; INPUT is not needed.",
 )
+@recipe_options
 @render_options
 def lattes(
     input: Path | None,
@@ -79,6 +81,8 @@ def lattes(
     alpha: str,
     exact: bool,
     print_map: bool,
+    save_recipe: Path | None = None,
+    dry_run: bool = False,
 ) -> None:
     """Twist a 360° image by a Lattès map: z -> p(alpha p^-1(z)).
 
@@ -107,15 +111,19 @@ def lattes(
         data["residual"] = lmap.fit_residual()
         click.echo(_json_of_fit(data))
         return
-    if input is None:
-        raise click.UsageError("missing INPUT (only --print works without an image)")
+    step = {"lattes": {"alpha": alpha, "lattice": lattice.lower(), "exact": exact}}
+    if input is None and not dry_run:
+        raise click.UsageError("missing INPUT (only --print and --dry-run work without an image)")
     from ..render import warp
     from ._common import load_input, output_path
 
-    _check_suffix(output_path(render, input, "lattes"))
-    src = load_input(input, render)
-    out = warp(src.pixels, lmap, **render.warp_kwargs(src.pixels))
-    save_output(out, src, render, command="lattes")
+    with saving_recipe(step, render, input, save_recipe, dry_run) as dry:
+        if dry:
+            return
+        _check_suffix(output_path(render, input, "lattes"))
+        src = load_input(input, render)
+        out = warp(src.pixels, lmap, **render.warp_kwargs(src.pixels))
+        save_output(out, src, render, command="lattes")
 
 
 # -- fit-rational ------------------------------------------------------------------------

@@ -16,6 +16,7 @@ from typing import Any
 import click
 
 from ._common import PIXEL, POINT, RealType, RenderOptions, example, input_argument, render_options
+from .recipe_cmds import recipe_options, saving_recipe
 
 __all__ = ["rotate", "zoom", "mobius"]
 
@@ -163,6 +164,7 @@ def _render(
     "as seen from the centre of the sphere looking at it.",
 )
 @click.option("--print", "print_map", is_flag=True, help=_PRINT_HELP)
+@recipe_options
 @render_options
 def rotate(
     input: Path,
@@ -173,6 +175,8 @@ def rotate(
     axis: tuple[float, float] | None,
     angle: float | None,
     print_map: bool,
+    save_recipe: Path | None = None,
+    dry_run: bool = False,
 ) -> None:
     """Rotate a 360° image: turn the view (yaw/pitch/roll) or the content about an axis.
 
@@ -186,7 +190,7 @@ def rotate(
     the heading becomes heading + yaw. Any other rotation tilts the image away
     from the recorded pose, which is then left out (a note says so).
     """
-    from ..maps import Mobius
+    from ..recipe.effects import rotate_forward
 
     ypr = (yaw, pitch, roll)
     uses_ypr = any(v is not None for v in ypr)
@@ -199,14 +203,16 @@ def rotate(
         if axis is None or angle is None:
             missing = "--axis" if axis is None else "--angle"
             raise click.UsageError(f"--axis and --angle go together; {missing} is missing")
-        forward = Mobius.rotation(axis, angle)
+        step = {"axis": list(axis), "angle": angle}
     else:
-        y, p, r = (0.0 if v is None else v for v in ypr)
-        forward = Mobius.from_yaw_pitch_roll(y, p, r).inverse()
+        step = {k: v for k, v in zip(("yaw", "pitch", "roll"), ypr, strict=True) if v is not None}
+    forward = rotate_forward(yaw, pitch, roll, axis, angle)
     if print_map:
         click.echo(forward.to_json())
         return
-    _render(input, render, forward, "rotate", pose_moves=forward)
+    with saving_recipe({"rotate": step}, render, input, save_recipe, dry_run) as dry:
+        if not dry:
+            _render(input, render, forward, "rotate", pose_moves=forward)
 
 
 @click.command(
@@ -231,6 +237,7 @@ def rotate(
 )
 @click.option("--center", is_flag=True, help="Also turn the zoom point to the image centre.")
 @click.option("--print", "print_map", is_flag=True, help=_PRINT_HELP)
+@recipe_options
 @render_options
 def zoom(
     input: Path,
@@ -240,6 +247,8 @@ def zoom(
     factor: float,
     center: bool,
     print_map: bool,
+    save_recipe: Path | None = None,
+    dry_run: bool = False,
 ) -> None:
     """Zoom into a 360° image toward a point (a hyperbolic Möbius map).
 
@@ -254,7 +263,7 @@ def zoom(
     centre when that is a turn about the vertical (a point on the horizon) and
     is left out otherwise.
     """
-    from ..maps import Mobius
+    from ..recipe.effects import zoom_forward
 
     if (at is None) == (at_pixel is None):
         raise click.UsageError("give exactly one of --at LON,LAT and --at-pixel X,Y")
@@ -265,7 +274,7 @@ def zoom(
         from .. import coords
         from ._common import load_input, output_path
 
-        if not print_map:
+        if not (print_map or dry_run):
             check_output_suffix(output_path(render, input, "zoom"))  # refuse a bad output early
         src = load_input(input, render)
         h, w = src.pixels.shape[:2]
@@ -277,15 +286,14 @@ def zoom(
             )
         lon, lat = coords.lonlat_deg_from_pixel(np.array([x, y]), w, h)
         at = (float(lon), float(lat))
-    forward = Mobius.zoom(at, factor)
-    pose_moves = Mobius.identity()
-    if center:
-        pose_moves = Mobius.rotation_to(at, (0.0, 0.0))
-        forward = pose_moves @ forward
+    forward, pose_moves = zoom_forward(at, factor, center)
     if print_map:
         click.echo(forward.to_json())
         return
-    _render(input, render, forward, "zoom", src, pose_moves=pose_moves)
+    step = {"at": list(at), "factor": factor, "center": center}
+    with saving_recipe({"zoom": step}, render, input, save_recipe, dry_run) as dry:
+        if not dry:
+            _render(input, render, forward, "zoom", src, pose_moves=pose_moves)
 
 
 @click.command(
@@ -316,6 +324,7 @@ def zoom(
     "--to", "to_points", type=POINT, nargs=3, metavar="Q1 Q2 Q3", help="Three distinct points."
 )
 @click.option("--print", "print_map", is_flag=True, help=_PRINT_HELP)
+@recipe_options
 @render_options
 def mobius(
     input: Path,
@@ -324,6 +333,8 @@ def mobius(
     from_points: tuple[tuple[float, float], ...] | None,
     to_points: tuple[tuple[float, float], ...] | None,
     print_map: bool,
+    save_recipe: Path | None = None,
+    dry_run: bool = False,
 ) -> None:
     """Apply any Möbius transformation: a matrix, or three points to three points.
 
@@ -334,7 +345,7 @@ def mobius(
     sphere about the vertical, and is left out otherwise (a note says so).
     """
     from ..errors import InvalidValueError
-    from ..maps import Mobius
+    from ..recipe.effects import mobius_forward
 
     from_points = from_points or None
     to_points = to_points or None
@@ -346,22 +357,25 @@ def mobius(
             "nothing to do: give --matrix a,b,c,d or --from P1 P2 P3 --to Q1 Q2 Q3"
         )
     if matrix is not None:
-        a, b, c, d = matrix
         try:
-            forward = Mobius([[a, b], [c, d]])
+            forward = mobius_forward(matrix)
         except InvalidValueError as exc:
             raise InvalidValueError(f"--matrix: {exc.cli_message}") from None
+        step: dict[str, Any] = {"matrix": [[c.real, c.imag] for c in matrix]}
     else:
         if from_points is None or to_points is None:
             missing = "--from" if from_points is None else "--to"
             raise click.UsageError(f"--from and --to go together; {missing} is missing")
         _check_distinct(from_points, "--from")
         _check_distinct(to_points, "--to")
-        forward = Mobius.from_points(list(from_points), list(to_points))
+        forward = mobius_forward(None, from_points, to_points)
+        step = {"from": [list(p) for p in from_points], "to": [list(p) for p in to_points]}
     if print_map:
         click.echo(forward.to_json())
         return
-    _render(input, render, forward, "mobius", pose_moves=forward)
+    with saving_recipe({"mobius": step}, render, input, save_recipe, dry_run) as dry:
+        if not dry:
+            _render(input, render, forward, "mobius", pose_moves=forward)
 
 
 def _check_distinct(points: tuple[tuple[float, float], ...], option: str) -> None:

@@ -629,6 +629,11 @@ class ExpressionMap(FunctionMap):
     def _from_params(cls, params: dict[str, Any]) -> ExpressionMap:
         return cls(params["expr"], params.get("chart", "zenith"))
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        # The compiled closures do not pickle; the formula and the chart rebuild them (so a
+        # map can go to another process, e.g. a Dask worker).
+        return (_expression_from_params, (self.params(),))
+
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, ExpressionMap):
             return NotImplemented
@@ -642,3 +647,8 @@ class ExpressionMap(FunctionMap):
     def __repr__(self) -> str:
         chart = self._chart_param() if self._chart_name else "<Mobius>"
         return f"ExpressionMap({self._expr!r}, chart={chart!r})"
+
+
+def _expression_from_params(params: dict[str, Any]) -> ExpressionMap:
+    """Rebuild a pickled :class:`ExpressionMap` from its parameters."""
+    return ExpressionMap._from_params(params)

@@ -1,0 +1,267 @@
+"""``spherewarp render``: replay a recipe; ``--save-recipe``: write one.
+
+Every effect command that takes ``--save-recipe R.json`` builds the recipe step
+of what it does (its own options, by name) and hands it to
+:func:`saving_recipe`; ``spherewarp render R.json IN -o OUT`` builds the same map
+from the step (:mod:`spherewarp.recipe.effects`) and renders it with the same
+options, so the pixels are the command's own.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import click
+
+from ._common import RealType, RenderOptions, example, input_argument, render_options
+
+__all__ = ["render", "animate", "recipe_options", "saving_recipe", "recipe_of"]
+
+TIME = RealType("a time in seconds", "1.5", metavar="T")
+
+#: recipe files this process wrote (path -> data): a batch writes one recipe, naming its inputs
+_WRITTEN: dict[str, dict[str, Any]] = {}
+
+
+def recipe_options(func: Callable) -> Callable:
+    """The ``--save-recipe R.json`` and ``--dry-run`` options of an effect command."""
+    func = click.option(
+        "--dry-run",
+        is_flag=True,
+        help="With --save-recipe: write the recipe and render nothing (INPUT is still read "
+        "where the recipe needs it, as for --at-pixel).",
+    )(func)
+    return click.option(
+        "--save-recipe",
+        type=click.Path(dir_okay=False, path_type=Path),
+        metavar="R.json",
+        help="Also write the recipe of this render as JSON; 'spherewarp render R.json IN' "
+        "replays it on any panorama.",
+    )(func)
+
+
+def recipe_of(
+    step: dict[str, Any],
+    render: RenderOptions,
+    input: Path | None = None,
+    top: dict[str, Any] | None = None,
+) -> dict[str, Any]:
+    """The recipe data of one step rendered with ``render``'s options (``top``: more
+    top-level fields, such as ``duration`` and ``loop``)."""
+    options: dict[str, Any] = {
+        "interp": render.interp,
+        "supersample": render.supersample,
+        "antialias": render.antialias,
+    }
+    if render.background is not None:
+        options["background"] = render.background
+    data: dict[str, Any] = {"spherewarp": 1}
+    if input is not None:
+        data["inputs"] = [input.name]
+    data.update(top or {})
+    data["steps"] = [{k: {n: v for n, v in p.items() if v is not None} for k, p in step.items()}]
+    if render.size is not None:
+        data["view"] = {"size": list(render.size)}
+    data["options"] = options
+    return data
+
+
+@contextlib.contextmanager
+def saving_recipe(
+    step: dict[str, Any],
+    render: RenderOptions,
+    input: Path | None,
+    path: Path | None,
+    dry_run: bool,
+    top: dict[str, Any] | None = None,
+) -> Iterator[bool]:
+    """Check, then write the recipe of ``step`` to ``path`` (if given) once the render in the
+    ``with`` block has succeeded; the block gets True for ``--dry-run`` (render nothing).
+
+    The recipe is validated first, so a written recipe always reads back. An
+    existing file is refused before any work without ``--overwrite``; a batch
+    writes it once.
+    """
+    if path is None:
+        if dry_run:
+            raise click.UsageError("--dry-run goes with --save-recipe R.json")
+        yield False
+        return
+    from ..errors import InvalidValueError, OutputExistsError
+    from ..io.atomic import write_text
+    from ..recipe import Recipe
+    from ._files import job
+
+    key = str(path.resolve())
+    earlier = _WRITTEN.get(key)
+    p = path
+    if earlier is None:  # (a later input of a batch adds itself to the recipe written)
+        p = job().writes(path, "--save-recipe")  # never an input, nor another output
+    if path.suffix.lower() != ".json":
+        raise click.BadParameter(
+            f"expected a file name ending in .json, got {str(path)!r}",
+            param_hint="'--save-recipe'",
+        )
+    data = recipe_of(step, render, input, top)
+    if earlier is not None:  # an earlier input of this batch wrote it: add this input
+        if {**earlier, "inputs": None} != {**data, "inputs": None}:
+            raise InvalidValueError(
+                f"--save-recipe {str(p)!r}: this input gives another recipe than the "
+                "earlier inputs of the batch (e.g. --at-pixel on another size); save one "
+                "input's recipe at a time"
+            )
+        data["inputs"] = earlier.get("inputs", []) + data.get("inputs", [])
+    text = Recipe.from_dict(data).dumps()
+    if p.exists() and not render.overwrite and earlier is None:
+        raise OutputExistsError(f"{str(p)!r} exists; pass --overwrite to replace it")
+    yield dry_run
+    if earlier != data:
+        write_text(p, text, overwrite=True)
+        _WRITTEN[key] = data
+        click.echo(f"wrote {p}")
+
+
+def _chosen(ctx: click.Context, name: str) -> bool:
+    """Whether the option ``name`` was given on the command line (not its default)."""
+    source = ctx.get_parameter_source(name)
+    return source not in (None, click.core.ParameterSource.DEFAULT)
+
+
+def _with_recipe_options(ctx: click.Context, render: RenderOptions, frame: Any) -> Any:
+    """``render`` with the recipe's interp/supersample/antialias/size/background, except
+    those given on the command line; and the ``warp`` keyword arguments."""
+    from dataclasses import replace
+
+    kwargs = dict(frame.warp_kwargs)
+    changes: dict[str, Any] = {}
+    for name in ("interp", "supersample", "antialias"):
+        if not _chosen(ctx, name):
+            changes[name] = kwargs[name]
+    if not _chosen(ctx, "size") and "output_shape" in kwargs:
+        h, w = kwargs["output_shape"]
+        changes["size"] = (w, h)
+    if not _chosen(ctx, "background") and frame.background is not None:
+        changes["background"] = frame.background
+    return replace(render, **changes)
+
+
+def _render_frame(src: Any, frame: Any, render: RenderOptions, command: str) -> tuple[Any, Any]:
+    """The pixels of one frame and the GPano to write with them."""
+    from ..render import warp
+    from .mobius_cmds import _output_gpano
+
+    out = warp(src.pixels, frame.map, **render.warp_kwargs(src.pixels))
+    gpano: Any = True  # after a branched map no pose holds, as with those commands
+    if frame.pose is not None:
+        gpano = _output_gpano(src, out.shape, frame.pose, command)
+    return out, gpano
+
+
+@click.command(
+    epilog=example(
+        "spherewarp zoom room.jpg --at -163,5 --factor 3 --save-recipe zoom.json -o a.jpg",
+        "spherewarp render zoom.json other-room.jpg -o b.jpg",
+        "spherewarp render flight.json room.jpg --time 1.5 -o frame.png",
+    )
+)
+@click.argument("recipe", type=click.Path(dir_okay=False, path_type=Path), metavar="R.json")
+@input_argument
+@click.option(
+    "--time",
+    "time",
+    type=TIME,
+    default=0.0,
+    show_default=True,
+    help="The time in seconds at which to evaluate the recipe's tracks.",
+)
+@render_options
+def render(input: Path, render: RenderOptions, recipe: Path, time: float) -> None:
+    """Render a recipe (R.json, as --save-recipe writes it) on INPUT.
+
+    The recipe's options (--interp, --supersample, --antialias, --size,
+    --background) apply unless given here.
+    """
+    from ..recipe import Recipe
+    from ._common import load_input, output_path, save_output
+    from ._files import job
+    from .mobius_cmds import check_output_suffix
+
+    job().reads(recipe, "recipe")
+    frame = Recipe.load(recipe).at(time)
+    render = _with_recipe_options(click.get_current_context(), render, frame)
+    check_output_suffix(output_path(render, input, "render"))  # refuse a bad output early
+    src = load_input(input, render)
+    out, gpano = _render_frame(src, frame, render, "render")
+    save_output(out, src, render, command="render", gpano=gpano)
+
+
+FPS = RealType("frames per second", "24 or 29.97", metavar="F", gt=0, le=1000)
+DURATION = RealType("a duration in seconds", "2.5", metavar="S", gt=0, le=86400)
+#: the most frames one animate run writes
+MAX_FRAMES = 100000
+
+
+@click.command(
+    epilog=example(
+        "spherewarp animate spin.json room.jpg --fps 24 -o frames/",
+        "spherewarp animate flight.json room.jpg --fps 30 --duration 4 -o frames/%04d.png",
+    )
+)
+@click.argument("recipe", type=click.Path(dir_okay=False, path_type=Path), metavar="R.json")
+@input_argument
+@click.option("--fps", type=FPS, required=True, help="Frames per second.")
+@click.option(
+    "--duration",
+    type=DURATION,
+    help="Seconds to render (default: the recipe's duration).",
+)
+@render_options
+def animate(
+    input: Path, render: RenderOptions, recipe: Path, fps: float, duration: float | None
+) -> None:
+    """Render the frames of a timed recipe (R.json) on INPUT, as numbered images.
+
+    Frame k shows the recipe at time k / FPS, from 0 to the duration; a
+    looping recipe ("loop": true) stops one frame short, so the frame after
+    the last is the first. -o names the frames: OUT.png gives OUT_0000.png,
+    OUT_0001.png, ...; a pattern such as frames/%04d.png, or a directory
+    (-o frames/: frames/INPUT-animate_0000.png, ...). PNG, TIFF, EXR, JPEG or
+    WebP, by the extension (default: INPUT's). The recipe's options apply
+    unless given here.
+    """
+    from dataclasses import replace
+
+    from ..errors import InvalidValueError
+    from ..recipe import Recipe
+    from ._common import load_input, output_name, output_path, save_output
+    from ._files import job
+    from .droste_cmds import frame_paths
+    from .mobius_cmds import check_output_suffix
+
+    job().reads(recipe, "recipe")
+    r = Recipe.load(recipe)
+    if duration is None and r.duration is None:
+        raise click.UsageError(f"{recipe} has no duration; give --duration S")
+    seconds = r.duration if duration is None else duration
+    if round(seconds * fps) > MAX_FRAMES:
+        raise InvalidValueError(
+            f"--fps {fps:g} for {seconds:g} s is {round(seconds * fps)} frames; "
+            f"expected at most {MAX_FRAMES}"
+        )
+    times = r.frame_times(fps, seconds)
+    ctx = click.get_current_context()
+    render = _with_recipe_options(ctx, render, r.at(0.0))
+    pattern = output_name(render, input, "animate")
+    paths = frame_paths(pattern, len(times))
+    per_frame = [replace(render, output=p, output_dir=False) for p in paths]
+    for one in per_frame:  # refuse inputs, existing files and bad names before any work
+        check_output_suffix(output_path(one, input, "animate", given=str(pattern)))
+    src = load_input(input, render)
+    for p in {p.parent for p in paths}:
+        p.mkdir(parents=True, exist_ok=True)
+    for t, one in zip(times, per_frame, strict=True):
+        out, gpano = _render_frame(src, r.at(t), one, "animate")
+        save_output(out, src, one, command="animate", gpano=gpano)

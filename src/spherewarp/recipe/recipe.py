@@ -1,0 +1,476 @@
+"""The :class:`Recipe`: a versioned, serialisable render request."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .effects import EFFECTS
+from .errors import RecipeError
+from .params import Choice, Integer, Real, describe, is_number, suggest
+from .tracks import has_track, resolve
+
+__all__ = ["FORMAT_VERSION", "MAX_BYTES", "MAX_DEPTH", "Frame", "Recipe", "Step"]
+
+#: the format version this library writes and reads (``{"spherewarp": 1, ...}``)
+FORMAT_VERSION = 1
+#: the largest recipe text read, in bytes (checked before parsing)
+MAX_BYTES = 1_000_000
+#: the deepest nesting of lists and objects accepted
+MAX_DEPTH = 32
+#: the most steps a recipe may have
+MAX_STEPS = 1000
+
+_TOP = ("spherewarp", "inputs", "steps", "duration", "loop", "view", "options")
+_VIEW = ("size", "projection", "look_at", "fov")
+_INTERP = Choice(["bilinear", "bicubic", "nearest"], default="bilinear")
+_SUPERSAMPLE = Integer(ge=1, le=16)
+_DURATION = Real(gt=0, le=86400)
+_SIZE_PART = Integer(ge=1, le=1_000_000)
+
+
+@dataclass(frozen=True)
+class Step:
+    """One step: an effect, its parameters as given, and as parsed (tracks kept)."""
+
+    effect: str
+    given: dict[str, Any]
+    parsed: dict[str, Any]
+    path: str
+
+    def values(self, t: float) -> dict[str, Any]:
+        """Every parameter of the effect at time ``t`` (defaults filled in)."""
+        spec = EFFECTS[self.effect].params
+        out = {name: s.default for name, s in spec.items()}
+        out.update({name: resolve(v, t) for name, v in self.parsed.items()})
+        return out
+
+    def map_at(self, t: float) -> Any:
+        """The map this step pulls the image back by at time ``t``."""
+        from ..errors import InvalidTypeError, InvalidValueError
+
+        try:
+            return EFFECTS[self.effect].build(self.values(t))
+        except RecipeError:
+            raise
+        except (InvalidValueError, InvalidTypeError) as exc:
+            when = f" at t = {t:g}" if self.animated else ""
+            raise RecipeError(f"{self.path}.{self.effect}", f"{exc}{when}") from None
+
+    @property
+    def animated(self) -> bool:
+        return any(has_track(v) for v in self.parsed.values())
+
+    def pose_at(self, t: float) -> Any:
+        """The turn a recorded camera pose must follow, or None (see :class:`Frame`)."""
+        pose = EFFECTS[self.effect].pose
+        return None if pose is None else pose(self.values(t))
+
+
+@dataclass(frozen=True)
+class Frame:
+    """What a recipe renders at one time: the map and the keyword arguments of ``warp``.
+
+    ``background`` is the colour transparency is flattened onto when written
+    (``--background``), or None. ``pose`` is the turn of the sphere that a
+    camera pose recorded with the input (GPano) must follow, as the effect
+    commands carry it (a zoom keeps it, a rotation turns it), or None when a
+    step is not a Möbius map (the pose no longer describes the pixels).
+    """
+
+    map: Any
+    warp_kwargs: dict[str, Any]
+    background: str | None = None
+    view: dict[str, Any] = field(default_factory=dict)
+    pose: Any = None
+
+
+class Recipe:
+    """A render request: the steps (effects with their own parameters), the view, the
+    options, and time.
+
+    The steps compose in order: step 1 is applied to the image, then step 2 to
+    the result, and so on (the pull-back maps compose as ``S1 @ S2 @ ...``). Any
+    number parameter, or a point's coordinates, may be a track
+    (:mod:`spherewarp.recipe.tracks`). The recipe is data: loading one never
+    runs code (``map`` formulas are parsed by a safe parser).
+
+    Parameters
+    ----------
+    data : dict
+        The recipe as JSON data (see :meth:`from_dict`); it is validated.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> r = Recipe.loads('''{"spherewarp": 1, "duration": 2,
+    ...     "steps": [{"zoom": {"at": [0, 0], "factor": {"keyframes": [[0, 1], [2, 4]]}}}]}''')
+    >>> r.step_values(0, t=1)["factor"]
+    2.5
+    >>> r.render(np.zeros((32, 64, 3), np.uint8), t=1).shape
+    (32, 64, 3)
+    >>> Recipe.loads('{"spherewarp": 1, "steps": [{"zooom": {}}]}')
+    Traceback (most recent call last):
+    ...
+    spherewarp.recipe.errors.RecipeError: steps[0]: unknown effect 'zooom' (did you mean 'zoom'?)
+    """
+
+    def __init__(self, data: dict[str, Any]) -> None:
+        self._data = data
+        self._parse(data)
+
+    # -- reading ------------------------------------------------------------------------------
+    @classmethod
+    def from_dict(cls, data: Any) -> Recipe:
+        """Validate recipe JSON data (already parsed) and return the recipe.
+
+        Raises :class:`RecipeError` naming the first bad field.
+        """
+        _check_depth(data)
+        return cls(json.loads(_json_text(data)))  # a copy: the caller's data may change
+
+    @classmethod
+    def loads(cls, text: str | bytes) -> Recipe:
+        """Parse and validate recipe JSON text (at most :data:`MAX_BYTES`)."""
+        if len(text) > MAX_BYTES:
+            raise RecipeError(
+                "", f"expected a recipe of at most {MAX_BYTES} bytes, got {len(text)} bytes"
+            )
+        if isinstance(text, bytes):
+            try:
+                text = text.decode("utf-8")
+            except UnicodeDecodeError as exc:
+                raise RecipeError(
+                    "", f"expected UTF-8 JSON text, got a byte that is not UTF-8 at {exc.start}"
+                ) from None
+        try:
+            data = json.loads(text, parse_constant=_refuse_constant, object_pairs_hook=_no_dupes)
+        except RecursionError:
+            raise RecipeError("", f"expected JSON nested at most {MAX_DEPTH} deep") from None
+        except json.JSONDecodeError as exc:
+            raise RecipeError(
+                "", f"not JSON: {exc.msg} (line {exc.lineno}, column {exc.colno})"
+            ) from None
+        _check_depth(data)
+        return cls(data)
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str]) -> Recipe:
+        """Read and validate a recipe file (at most :data:`MAX_BYTES`)."""
+        from ..errors import ImageFormatError
+
+        p = Path(path)
+        try:
+            size = p.stat().st_size
+            if size > MAX_BYTES:
+                raise RecipeError(
+                    "", f"expected a recipe of at most {MAX_BYTES} bytes, got {size} bytes"
+                )
+            with p.open("rb") as fh:
+                text = fh.read(MAX_BYTES + 1)
+        except IsADirectoryError:
+            raise ImageFormatError(f"cannot read recipe '{p}': it is a directory") from None
+        except OSError as exc:
+            raise ImageFormatError(f"cannot read recipe '{p}': {exc.strerror or exc}") from None
+        return cls.loads(text)
+
+    @staticmethod
+    def validate(data: Any) -> None:
+        """Raise :class:`RecipeError` unless ``data`` is a valid recipe."""
+        Recipe.from_dict(data)
+
+    # -- writing ------------------------------------------------------------------------------
+    def to_dict(self) -> dict[str, Any]:
+        """The recipe as JSON data (as given: the parameters, the tracks)."""
+        return json.loads(json.dumps(self._data))
+
+    def dumps(self) -> str:
+        """The recipe as JSON text."""
+        return json.dumps(self._data, indent=2, allow_nan=False) + "\n"
+
+    def save(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
+        """Write the recipe as JSON, atomically; refuse to replace a file unless ``overwrite``."""
+        from ..io.atomic import write_text
+
+        return write_text(path, self.dumps(), overwrite=overwrite)
+
+    # -- evaluating ---------------------------------------------------------------------------
+    @property
+    def steps(self) -> tuple[Step, ...]:
+        return self._steps
+
+    @property
+    def duration(self) -> float | None:
+        """The length in seconds, or None for a still."""
+        return self._duration
+
+    @property
+    def loop(self) -> bool:
+        return self._loop
+
+    @property
+    def animated(self) -> bool:
+        """Whether some parameter is a track."""
+        return any(s.animated for s in self._steps)
+
+    def time(self, t: float) -> float:
+        """The time the tracks are evaluated at: ``t`` modulo the duration for a loop."""
+        if not math.isfinite(t):
+            raise RecipeError("time", f"expected a finite time in seconds, got {t!r}")
+        if self._loop and self._duration:
+            return math.fmod(t, self._duration) % self._duration
+        return float(t)
+
+    def step_values(self, index: int, t: float = 0.0) -> dict[str, Any]:
+        """The parameters of step ``index`` at time ``t``."""
+        return self._steps[index].values(self.time(t))
+
+    def map_at(self, t: float = 0.0) -> Any:
+        """The map to pull the image back by at time ``t``: the steps composed in order."""
+        from ..maps import Mobius
+
+        tt = self.time(t)
+        maps = [s.map_at(tt) for s in self._steps]
+        if not maps:
+            return Mobius.identity()
+        total = maps[0]
+        for m in maps[1:]:
+            total = total @ m
+        return total
+
+    def at(self, t: float = 0.0) -> Frame:
+        """The map and the render options at time ``t``."""
+        return Frame(
+            self.map_at(t),
+            dict(self._warp_kwargs),
+            self._background,
+            dict(self._view),
+            self.pose_at(t),
+        )
+
+    def pose_at(self, t: float = 0.0) -> Any:
+        """The turn a recorded camera pose must follow at time ``t`` (see :class:`Frame`)."""
+        from ..maps import Mobius
+
+        tt = self.time(t)
+        total = Mobius.identity()
+        for s in self._steps:  # step 1 moves the content first
+            pose = s.pose_at(tt)
+            if pose is None:
+                return None
+            total = pose @ total
+        return total
+
+    def render(self, image: Any, t: float = 0.0, **warp_kwargs: Any) -> Any:
+        """Render the recipe on ``image`` at time ``t`` with :func:`spherewarp.warp`.
+
+        ``warp_kwargs`` override the recipe's options (``threads=``, ``progress=``, ...).
+        """
+        from ..render import warp
+
+        frame = self.at(t)
+        return warp(image, frame.map, **{**frame.warp_kwargs, **warp_kwargs})
+
+    def frame_times(self, fps: float, duration: float | None = None) -> list[float]:
+        """The times of the frames of an animation at ``fps`` frames a second.
+
+        ``duration`` defaults to the recipe's. A loop's frames stop one frame
+        short of the duration (the frame after the last is the first).
+        """
+        d = self._duration if duration is None else duration
+        if d is None:
+            raise RecipeError("duration", "expected a duration in seconds for an animation")
+        n = max(1, round(d * fps))
+        return [k / fps for k in range(n if self._loop else n + 1)]
+
+    def __repr__(self) -> str:
+        names = ", ".join(s.effect for s in self._steps)
+        return f"Recipe([{names}], duration={self._duration}, loop={self._loop})"
+
+    # -- parsing ------------------------------------------------------------------------------
+    def _parse(self, data: Any) -> None:
+        if not isinstance(data, dict):
+            raise RecipeError("", f"expected a JSON object, got {describe(data)}")
+        for key in data:
+            if key not in _TOP:
+                raise RecipeError(key, f"unknown field{suggest(key, _TOP)}")
+        if "spherewarp" not in data:
+            raise RecipeError(
+                "spherewarp", f'missing: a recipe starts {{"spherewarp": {FORMAT_VERSION}, ...}}'
+            )
+        version = data["spherewarp"]
+        if not isinstance(version, int) or isinstance(version, bool) or version < 1:
+            raise RecipeError(
+                "spherewarp",
+                f"expected the format version {FORMAT_VERSION}, got {describe(version)}",
+            )
+        if version > FORMAT_VERSION:
+            raise RecipeError(
+                "spherewarp",
+                f"format version {version} is newer than this spherewarp reads "
+                f"({FORMAT_VERSION}); upgrade spherewarp",
+            )
+        inputs = data.get("inputs", [])
+        if not isinstance(inputs, list) or not all(isinstance(i, str) for i in inputs):
+            raise RecipeError("inputs", f"expected a list of file names, got {describe(inputs)}")
+        self._duration = (
+            None
+            if data.get("duration") is None
+            else _DURATION.parse_plain(data["duration"], "duration")
+        )
+        loop = data.get("loop", False)
+        if not isinstance(loop, bool):
+            raise RecipeError("loop", f"expected true or false, got {describe(loop)}")
+        if loop and self._duration is None:
+            raise RecipeError("loop", "a loop needs a 'duration'")
+        self._loop = loop
+        steps = data.get("steps")
+        if not isinstance(steps, list):
+            raise RecipeError("steps", f"expected a list of steps, got {describe(steps)}")
+        if len(steps) > MAX_STEPS:
+            raise RecipeError("steps", f"expected at most {MAX_STEPS} steps, got {len(steps)}")
+        self._steps = tuple(_parse_step(s, f"steps[{k}]") for k, s in enumerate(steps))
+        self._view = _parse_view(data.get("view", {}))
+        self._warp_kwargs, self._background = _parse_options(data.get("options", {}), self._steps)
+        if self._view.get("size") is not None:
+            w, h = self._view["size"]
+            self._warp_kwargs["output_shape"] = (h, w)
+        for s in self._steps:  # every builder's own checks, at the start
+            s.map_at(0.0)
+
+
+def _parse_step(step: Any, path: str) -> Step:
+    if not isinstance(step, dict) or len(step) != 1:
+        raise RecipeError(
+            path, f'expected one effect {{"NAME": {{parameters}}}}, got {describe(step)}'
+        )
+    ((name, params),) = step.items()
+    if name not in EFFECTS:
+        raise RecipeError(path, f"unknown effect {name!r}{suggest(name, list(EFFECTS))}")
+    effect = EFFECTS[name]
+    where = f"{path}.{name}"
+    if not isinstance(params, dict):
+        raise RecipeError(where, f"expected an object of parameters, got {describe(params)}")
+    parsed: dict[str, Any] = {}
+    for key, value in params.items():
+        if key not in effect.params:
+            raise RecipeError(
+                f"{where}.{key}",
+                f"unknown parameter of {name}{suggest(key, list(effect.params))} "
+                f"(expected one of {', '.join(effect.params)})",
+            )
+        if value is None:
+            continue
+        parsed[key] = effect.params[key].parse(value, f"{where}.{key}")
+    for key, spec in effect.params.items():
+        if spec.required and key not in parsed:
+            raise RecipeError(f"{where}.{key}", f"missing: expected {spec.expected}")
+    effect.check(set(parsed), where)
+    return Step(name, params, parsed, path)
+
+
+def _parse_view(view: Any) -> dict[str, Any]:
+    """The output view: ``size`` [W, H] is used; the grid fields are checked loosely for now."""
+    if not isinstance(view, dict):
+        raise RecipeError("view", f"expected an object, got {describe(view)}")
+    out: dict[str, Any] = {}
+    for key, value in view.items():
+        if key not in _VIEW:
+            raise RecipeError(f"view.{key}", f"unknown field{suggest(key, _VIEW)}")
+        if value is None:
+            continue
+        if key == "size":
+            if not isinstance(value, list) or len(value) != 2:
+                raise RecipeError("view.size", f"expected [width, height], got {describe(value)}")
+            out[key] = tuple(_SIZE_PART.parse(v, f"view.size[{k}]") for k, v in enumerate(value))
+        elif key == "projection":
+            if not isinstance(value, str):
+                raise RecipeError("view.projection", f"expected a name, got {describe(value)}")
+            out[key] = value
+        else:
+            if key == "look_at":
+                from .params import Point
+
+                out[key] = Point().parse_plain(value, "view.look_at")
+            else:
+                out[key] = Real(gt=0, le=360).parse_plain(value, "view.fov")
+    return out
+
+
+def _parse_options(options: Any, steps: tuple[Step, ...]) -> tuple[dict[str, Any], str | None]:
+    if not isinstance(options, dict):
+        raise RecipeError("options", f"expected an object, got {describe(options)}")
+    known = ("interp", "supersample", "antialias", "background")
+    for key in options:
+        if key not in known:
+            raise RecipeError(f"options.{key}", f"unknown option{suggest(key, known)}")
+    kwargs: dict[str, Any] = {"interp": "bilinear", "supersample": 1, "antialias": "auto"}
+    own = [EFFECTS[s.effect].supersample for s in steps if EFFECTS[s.effect].supersample]
+    if own:
+        kwargs["supersample"] = max(own)  # as the command does when --supersample is not given
+    if options.get("interp") is not None:
+        kwargs["interp"] = _INTERP.parse_plain(options["interp"], "options.interp")
+    if options.get("supersample") is not None:
+        kwargs["supersample"] = _SUPERSAMPLE.parse_plain(
+            options["supersample"], "options.supersample"
+        )
+    aa = options.get("antialias")
+    if aa is not None:
+        names = ("auto", "area", "adaptive", "none")
+        if isinstance(aa, str) and aa.lower() in names:
+            kwargs["antialias"] = aa.lower()
+        elif is_number(aa) and float(aa).is_integer() and 1 <= aa <= 16:
+            kwargs["antialias"] = int(aa)
+        else:
+            hint = suggest(aa.lower(), names) if isinstance(aa, str) else ""
+            raise RecipeError(
+                "options.antialias",
+                f"expected auto, area, adaptive, none or an integer 1 to 16, got "
+                f"{describe(aa)}{hint}",
+            )
+    background = options.get("background")
+    if background is not None and (not isinstance(background, str) or len(background) > 40):
+        raise RecipeError(
+            "options.background",
+            f"expected a colour name or #RRGGBB, got {describe(background)}",
+        )
+    return kwargs, background
+
+
+def _refuse_constant(name: str) -> Any:
+    raise RecipeError("", f"expected finite numbers, got {name} (JSON has no NaN or Infinity)")
+
+
+def _no_dupes(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in out:
+            raise RecipeError(key, "given twice")
+        out[key] = value
+    return out
+
+
+def _check_depth(data: Any) -> None:
+    """Raise unless lists and objects nest at most :data:`MAX_DEPTH` deep (no recursion)."""
+    stack = [(data, 1)]
+    while stack:
+        value, depth = stack.pop()
+        if isinstance(value, (list, dict)):
+            if depth > MAX_DEPTH:
+                raise RecipeError("", f"expected JSON nested at most {MAX_DEPTH} deep")
+            items = value.values() if isinstance(value, dict) else value
+            stack.extend((v, depth + 1) for v in items)
+
+
+def _json_text(data: Any) -> str:
+    """Python data as JSON text; refuse NaN, infinities and what JSON cannot hold."""
+    try:
+        return json.dumps(data, allow_nan=False)
+    except ValueError:
+        raise RecipeError("", "expected finite numbers (JSON has no NaN or Infinity)") from None
+    except TypeError as exc:
+        raise RecipeError("", f"expected JSON data: {exc}") from None

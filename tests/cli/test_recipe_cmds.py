@@ -1,0 +1,255 @@
+"""``--save-recipe`` on the effect commands and ``spherewarp render`` (fresh processes)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from _cli import fails, ok, run
+
+from spherewarp.io import read_image, write_image
+
+COMMANDS = [
+    ("rotate", "--yaw", "30", "--pitch", "-10", "--roll", "5"),
+    ("rotate", "--axis", "-163,5", "--angle", "45"),
+    ("zoom", "--at-pixel", "40,50", "--factor", "3", "--center"),
+    ("mobius", "--matrix", "1+1j,0.5,0,1-1j"),
+    ("mobius", "--from", "0,0", "90,0", "0,90", "--to", "0,0", "60,0", "0,60"),
+    ("power", "--n", "1/2", "--branch-points", "0,0", "180,0", "--look-at", "0,90"),
+    ("exp", "--lam", "2", "--size", "96x48"),
+    ("map", "--expr", "z**2 + 0.5*z", "--chart", "front", "--interp", "bicubic"),
+    ("lattes", "--alpha", "1+1j", "--antialias", "adaptive"),
+    ("droste", "--center", "0,0", "--inner-radius", "20", "--phase", "0.3"),
+    ("droste", "--frame", "-20,15", "20,15", "20,-15", "-20,-15", "--twist", "--scale", "8"),
+]
+
+
+@pytest.fixture
+def pano(tmp_path):
+    rng = np.random.default_rng(1)
+    a = tmp_path / "a.png"
+    b = tmp_path / "b.png"
+    write_image(a, rng.integers(0, 256, (64, 128, 3), dtype=np.uint8))
+    write_image(b, rng.integers(0, 256, (40, 80, 3), dtype=np.uint8))
+    return a, b
+
+
+@pytest.mark.parametrize("args", COMMANDS, ids=[" ".join(a[:2]) for a in COMMANDS])
+def test_save_recipe_then_render_gives_the_same_pixels(tmp_path, pano, args):
+    a, b = pano
+    r = tmp_path / "r.json"
+    ok(None, *args[:1], a, *args[1:], "--save-recipe", r, "-o", tmp_path / "cmd.png", "-q")
+    data = json.loads(r.read_text())
+    assert data["spherewarp"] == 1 and list(data["steps"][0]) == [args[0]]
+    ok(None, "render", r, a, "-o", tmp_path / "rec.png", "-q")
+    cmd = read_image(tmp_path / "cmd.png").pixels
+    rec = read_image(tmp_path / "rec.png").pixels
+    assert cmd.shape == rec.shape and np.array_equal(cmd, rec)
+    # on another panorama
+    ok(None, "render", r, b, "-o", tmp_path / "other.png", "-q")
+    other = read_image(tmp_path / "other.png").pixels
+    size = data.get("view", {}).get("size")
+    assert other.shape[:2] == ((size[1], size[0]) if size else (40, 80))
+
+
+def test_dry_run_writes_the_recipe_only(tmp_path, pano):
+    a, _ = pano
+    r = tmp_path / "r.json"
+    out = ok(
+        None,
+        "zoom",
+        a,
+        "--at",
+        "10,0",
+        "--factor",
+        "2",
+        "--save-recipe",
+        r,
+        "--dry-run",
+        "-o",
+        tmp_path / "x.png",
+    )
+    assert "wrote" in out and r.exists() and not (tmp_path / "x.png").exists()
+    assert json.loads(r.read_text())["steps"] == [
+        {"zoom": {"at": [10.0, 0.0], "factor": 2.0, "center": False}}
+    ]
+
+
+def test_dry_run_needs_save_recipe(tmp_path, pano):
+    err = fails(None, "rotate", pano[0], "--yaw", "3", "--dry-run")
+    assert "--dry-run goes with --save-recipe" in err
+
+
+def test_existing_recipe_is_refused_before_any_work(tmp_path, pano):
+    a, _ = pano
+    r = tmp_path / "r.json"
+    r.write_text("{}")
+    err = fails(None, "rotate", a, "--yaw", "3", "--save-recipe", r, "-o", tmp_path / "x.png")
+    assert "exists; pass --overwrite" in err
+    assert r.read_text() == "{}" and not (tmp_path / "x.png").exists()
+    ok(None, "rotate", a, "--yaw", "3", "--save-recipe", r, "-o", tmp_path / "x.png", "--overwrite")
+    assert json.loads(r.read_text())["steps"] == [{"rotate": {"yaw": 3.0}}]
+
+
+def test_save_recipe_may_not_be_the_input(tmp_path, pano):
+    a, _ = pano
+    err = fails(None, "rotate", a, "--yaw", "3", "--save-recipe", a, "--overwrite")
+    assert "--save-recipe" in err and "is the input" in err
+    err = fails(None, "rotate", a, "--yaw", "3", "--save-recipe", tmp_path / "r.txt")
+    assert "ending in .json" in err
+
+
+def test_render_at_a_time_and_the_recipes_options(tmp_path, pano):
+    a, _ = pano
+    r = tmp_path / "flight.json"
+    r.write_text(
+        json.dumps(
+            {
+                "spherewarp": 1,
+                "duration": 2,
+                "steps": [{"zoom": {"at": [30, 10], "factor": {"keyframes": [[0, 1], [2, 4]]}}}],
+                "view": {"size": [64, 32]},
+            }
+        )
+    )
+    plain = tmp_path / "plain.json"
+    plain.write_text(
+        json.dumps(
+            {
+                "spherewarp": 1,
+                "steps": [{"zoom": {"at": [30, 10], "factor": 2.5}}],
+                "view": {"size": [64, 32]},
+            }
+        )
+    )
+    ok(None, "render", r, a, "--time", "1", "-o", tmp_path / "t1.png", "-q")
+    ok(None, "render", plain, a, "-o", tmp_path / "p.png", "-q")
+    t1 = read_image(tmp_path / "t1.png").pixels
+    assert t1.shape == (32, 64, 3)
+    assert np.array_equal(t1, read_image(tmp_path / "p.png").pixels)
+    ok(None, "render", r, a, "--size", "32x16", "-o", tmp_path / "small.png", "-q")
+    assert read_image(tmp_path / "small.png").pixels.shape == (16, 32, 3)
+
+
+BAD = {
+    "not json": "{",
+    "wrong version": '{"spherewarp": 9, "steps": []}',
+    "unknown effect": '{"spherewarp": 1, "steps": [{"zooom": {"at": [0, 0], "factor": 2}}]}',
+    "negative factor": '{"spherewarp": 1, "steps": [{"zoom": {"at": [0, 0], "factor": -1}}]}',
+    "NaN": '{"spherewarp": 1, "steps": [{"rotate": {"yaw": NaN}}]}',
+    "unknown field": '{"spherewarp": 1, "steps": [{"rotate": {"yew": 3}}]}',
+    "wrong type": '{"spherewarp": 1, "steps": [{"rotate": {"yaw": "3"}}]}',
+    "keyframes out of order": (
+        '{"spherewarp": 1, "steps": [{"rotate": {"yaw": {"keyframes": [[1, 0], [0, 3]]}}}]}'
+    ),
+    "deeply nested": "[" * 50000 + "]" * 50000,
+    "not utf-8": b'{"spherewarp": 1, "steps": [\xff]}',
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD))
+def test_bad_recipes_give_one_line_and_write_nothing(tmp_path, pano, name):
+    a, _ = pano
+    r = tmp_path / "bad.json"
+    text = BAD[name]
+    r.write_bytes(text if isinstance(text, bytes) else text.encode())
+    err = fails(None, "render", r, a, "-o", tmp_path / "out.png")
+    assert "Traceback" not in err
+    assert not (tmp_path / "out.png").exists()
+
+
+def test_a_50_mb_recipe_is_refused(tmp_path, pano):
+    r = tmp_path / "big.json"
+    with r.open("wb") as fh:
+        fh.truncate(50 * 1024 * 1024)
+    err = fails(None, "render", r, pano[0], "-o", tmp_path / "out.png")
+    assert "at most 1000000 bytes" in err and not (tmp_path / "out.png").exists()
+
+
+def test_render_refuses_to_write_over_the_recipe(tmp_path, pano):
+    a, _ = pano
+    r = tmp_path / "r.png"
+    r.write_text('{"spherewarp": 1, "steps": []}')
+    err = fails(None, "render", r, a, "-o", r, "--overwrite")
+    assert "is the recipe" in err
+
+
+def test_droste_frames_recipe_animates_to_the_same_frames(tmp_path, pano):
+    a, _ = pano
+    r = tmp_path / "loop.json"
+    args = ["--center", "0,0", "--inner-radius", "20", "--scale", "4", "-q"]
+    ok(None, "droste", a, *args, "--frames", "4", "-o", tmp_path / "cmd.png", "--save-recipe", r)
+    data = json.loads(r.read_text())
+    assert data["loop"] is True and data["duration"] == 1
+    ok(None, "animate", r, a, "--fps", "4", "-o", tmp_path / "rec.png", "-q")
+    for k in range(4):
+        cmd = read_image(tmp_path / f"cmd_{k:04d}.png").pixels
+        assert np.array_equal(cmd, read_image(tmp_path / f"rec_{k:04d}.png").pixels), k
+
+
+def test_save_recipe_refuses_what_a_recipe_cannot_hold_yet(tmp_path, pano):
+    a, b = pano
+    err = fails(None, "droste", a, "--mask", b, "--save-recipe", tmp_path / "r.json")
+    assert "--save-recipe takes" in err
+    assert not (tmp_path / "r.json").exists()
+
+
+def test_lattes_dry_run_needs_no_input(tmp_path):
+    r = tmp_path / "l.json"
+    ok(None, "lattes", "--alpha", "2+1j", "--save-recipe", r, "--dry-run")
+    assert json.loads(r.read_text())["steps"] == [
+        {"lattes": {"alpha": "2+1j", "lattice": "square", "exact": False}}
+    ]
+
+
+def test_a_batch_writes_one_recipe_naming_its_inputs(tmp_path, pano):
+    a, b = pano
+    r = tmp_path / "r.json"
+    ok(None, "rotate", a, b, "--yaw", "20", "--save-recipe", r, "-o", f"{tmp_path / 'out'}/")
+    assert json.loads(r.read_text())["inputs"] == ["a.png", "b.png"]
+    assert len(list((tmp_path / "out").iterdir())) == 2
+    # inputs whose recipes differ (a pixel is another point on another size) say so
+    z = tmp_path / "z.json"
+    code, _, err = run(
+        None,
+        "zoom",
+        a,
+        b,
+        "--at-pixel",
+        "10,10",
+        "--factor",
+        "2",
+        "--save-recipe",
+        z,
+        "-o",
+        f"{tmp_path / 'zo'}/",
+    )
+    assert code == 2 and "gives another recipe" in err and "Traceback" not in err
+    assert json.loads(z.read_text())["inputs"] == ["a.png"]
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("rotate", "--yaw", "30"),
+        ("rotate", "--pitch", "10"),
+        ("zoom", "--at", "10,20", "--factor", "2"),
+        ("zoom", "--at", "40,0", "--factor", "2", "--center"),
+        ("mobius", "--matrix", "1j,0,0,-1j"),
+        ("power", "--n", "2"),
+    ],
+    ids=lambda a: " ".join(a[:2]),
+)
+def test_render_carries_the_gpano_pose_as_the_command_does(tmp_path, args):
+    from spherewarp.io import GPano
+
+    px = np.random.default_rng(0).integers(0, 255, (32, 64, 3), dtype=np.uint8)
+    src = tmp_path / "posed.png"
+    write_image(src, px, gpano=GPano(full_width=64, full_height=32, pose_heading=100.0))
+    r = tmp_path / "r.json"
+    ok(None, args[0], src, *args[1:], "--save-recipe", r, "-o", tmp_path / "cmd.png", "-q")
+    ok(None, "render", r, src, "-o", tmp_path / "rec.png", "-q")
+    a, b = read_image(tmp_path / "cmd.png").gpano, read_image(tmp_path / "rec.png").gpano
+    pose = (a.pose_heading, a.pose_pitch, a.pose_roll) if a is not None else None
+    assert pose == ((b.pose_heading, b.pose_pitch, b.pose_roll) if b is not None else None)
