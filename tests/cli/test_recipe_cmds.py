@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -253,3 +254,33 @@ def test_render_carries_the_gpano_pose_as_the_command_does(tmp_path, args):
     a, b = read_image(tmp_path / "cmd.png").gpano, read_image(tmp_path / "rec.png").gpano
     pose = (a.pose_heading, a.pose_pitch, a.pose_roll) if a is not None else None
     assert pose == ((b.pose_heading, b.pose_pitch, b.pose_roll) if b is not None else None)
+
+
+def test_saved_recipe_keeps_the_view_and_render_replays_it(tmp_path):
+    """--projection/--look-at/--fov go into the recipe's view; render replays the grid."""
+    from spherewarp.io import read_image
+
+    src = str(Path(__file__).resolve().parents[2] / "src" / "spherewarp" / "data" / "interior.png")
+    a, b, r = tmp_path / "a.png", tmp_path / "b.png", tmp_path / "r.json"
+    view = ("--projection", "rectilinear", "--look-at", "90,10", "--fov", "70", "--size", "96x64")
+    code, _, err = run(None, "zoom", src, "--at", "0,0", "--factor", "2", *view,
+                       "--save-recipe", r, "-o", a)  # fmt: skip
+    assert code == 0, err
+    saved = json.loads(r.read_text())["view"]
+    assert saved == {"size": [96, 64], "projection": "rectilinear", "look_at": [90.0, 10.0],
+                     "fov": 70.0}  # fmt: skip
+    code, _, err = run(None, "render", r, src, "-o", b)
+    assert code == 0, err
+    np.testing.assert_array_equal(read_image(a).pixels, read_image(b).pixels)
+    assert read_image(b).gpano is None  # a flat view carries no GPano
+
+
+def test_recipe_view_projection_is_checked():
+    from spherewarp.recipe import Recipe, RecipeError
+
+    base = {"spherewarp": 1, "steps": [{"zoom": {"at": [0, 0], "factor": 2}}]}
+    with pytest.raises(RecipeError, match=r"view.projection: .*did you mean 'fisheye'"):
+        Recipe.from_dict({**base, "view": {"projection": "fishey"}})
+    grid = Recipe.from_dict({**base, "view": {"projection": "little-planet"}})
+    out = grid.render(np.zeros((32, 64, 3), np.uint8))
+    assert out.shape == (32, 32, 3)

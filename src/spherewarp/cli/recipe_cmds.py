@@ -63,8 +63,19 @@ def recipe_of(
         data["inputs"] = [input.name]
     data.update(top or {})
     data["steps"] = [{k: {n: v for n, v in p.items() if v is not None} for k, p in step.items()}]
+    view: dict[str, Any] = {}
     if render.size is not None:
-        data["view"] = {"size": list(render.size)}
+        view["size"] = list(render.size)
+    if render.projection is not None:
+        view["projection"] = render.projection
+    if render.view_at is not None:
+        view["look_at"] = list(render.view_at)
+    if render.view_roll:
+        view["roll"] = render.view_roll
+    if render.fov is not None:
+        view["fov"] = render.fov
+    if view:
+        data["view"] = view
     data["options"] = options
     return data
 
@@ -145,6 +156,12 @@ def _with_recipe_options(ctx: click.Context, render: RenderOptions, frame: Any) 
         changes["size"] = (w, h)
     if not _chosen(ctx, "background") and frame.background is not None:
         changes["background"] = frame.background
+    if not any(_chosen(ctx, n) for n in ("projection", "view_at", "view_roll", "fov")):
+        view = frame.view  # the recipe's output grid, unless the command line names one
+        changes["projection"] = view.get("projection")
+        changes["view_at"] = None if view.get("look_at") is None else tuple(view["look_at"])
+        changes["view_roll"] = float(view.get("roll") or 0.0)
+        changes["fov"] = view.get("fov")
     return replace(render, **changes)
 
 

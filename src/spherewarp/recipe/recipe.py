@@ -26,7 +26,7 @@ MAX_DEPTH = 32
 MAX_STEPS = 1000
 
 _TOP = ("spherewarp", "inputs", "steps", "duration", "loop", "view", "options")
-_VIEW = ("size", "projection", "look_at", "fov")
+_VIEW = ("size", "projection", "look_at", "roll", "fov")
 _INTERP = Choice(["bilinear", "bicubic", "nearest"], default="bilinear")
 _SUPERSAMPLE = Integer(ge=1, le=16)
 _DURATION = Real(gt=0, le=86400)
@@ -273,7 +273,12 @@ class Recipe:
         from ..render import warp
 
         frame = self.at(t)
-        return warp(image, frame.map, **{**frame.warp_kwargs, **warp_kwargs})
+        kwargs = dict(frame.warp_kwargs)
+        grid = view_grid(frame.view, getattr(image, "pixels", image).shape)
+        if grid is not None:
+            kwargs.pop("output_shape", None)
+            kwargs["grid"] = grid
+        return warp(image, frame.map, **{**kwargs, **warp_kwargs})
 
     def frame_times(self, fps: float, duration: float | None = None) -> list[float]:
         """The times of the frames of an animation at ``fps`` frames a second.
@@ -388,17 +393,43 @@ def _parse_view(view: Any) -> dict[str, Any]:
                 raise RecipeError("view.size", f"expected [width, height], got {describe(value)}")
             out[key] = tuple(_SIZE_PART.parse(v, f"view.size[{k}]") for k, v in enumerate(value))
         elif key == "projection":
-            if not isinstance(value, str):
-                raise RecipeError("view.projection", f"expected a name, got {describe(value)}")
-            out[key] = value
-        else:
-            if key == "look_at":
-                from .params import Point
+            from ..grids import GRIDS
 
-                out[key] = Point().parse_plain(value, "view.look_at")
-            else:
-                out[key] = Real(gt=0, le=360).parse_plain(value, "view.fov")
+            name = value.strip().lower() if isinstance(value, str) else None
+            if name not in GRIDS:
+                raise RecipeError(
+                    "view.projection",
+                    f"expected one of {', '.join(GRIDS)}, got {describe(value)}"
+                    + (suggest(value, list(GRIDS)) if isinstance(value, str) else ""),
+                )
+            out[key] = name
+        elif key == "look_at":
+            from .params import Point
+
+            out[key] = Point().parse_plain(value, "view.look_at")
+        elif key == "roll":
+            out[key] = Real(ge=-360, le=360).parse_plain(value, "view.roll")
+        else:
+            out[key] = Real(gt=0, le=360).parse_plain(value, "view.fov")
     return out
+
+
+def view_grid(view: dict[str, Any], in_shape: tuple[int, ...]) -> Any:
+    """The output grid a recipe's ``view`` names for an input of ``in_shape``, or None for
+    the plain panorama (then ``view.size`` alone sets the output size)."""
+    if not any(view.get(k) for k in ("projection", "look_at", "roll", "fov")):
+        return None
+    from ..grids import make_grid
+
+    size = view.get("size")
+    return make_grid(
+        view.get("projection") or "equirect",
+        tuple(in_shape[:2]),
+        shape=None if size is None else (size[1], size[0]),
+        look_at=view.get("look_at"),
+        roll=view.get("roll") or 0.0,
+        fov=view.get("fov"),
+    )
 
 
 def _parse_options(options: Any, steps: tuple[Step, ...]) -> tuple[dict[str, Any], str | None]:

@@ -18,6 +18,7 @@ from __future__ import annotations
 import json
 from typing import Any
 
+from ..grids import GRIDS
 from . import params as P
 from .effects import EFFECTS
 from .recipe import FORMAT_VERSION
@@ -121,8 +122,9 @@ def json_schema() -> dict[str, Any]:
                         "minItems": 2,
                         "maxItems": 2,
                     },
-                    "projection": {"type": "string"},
+                    "projection": {"enum": list(GRIDS)},
                     "look_at": {"$ref": "#/$defs/point"},
+                    "roll": {"type": "number", "minimum": -360, "maximum": 360},
                     "fov": {"type": "number", "exclusiveMinimum": 0, "maximum": 360},
                 },
             },
