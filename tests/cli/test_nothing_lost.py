@@ -38,6 +38,7 @@ CASES: dict[str, tuple[list[str], list[str]]] = {
     "droste-mask": (["droste", "{a}", "--mask", "{b}"], ["a", "b"]),
     "droste-inside": (["droste", "{a}", *CENTER, "--inside", "{b}"], ["a", "b"]),
     "droste-log": (["droste", "{a}", *CENTER, "--view", "log"], ["a"]),
+    "schottky": (["schottky", "{a}", "--generator", "0,0,20 -> 180,0,20"], ["a"]),
     "lattes": (["lattes", "{a}", "--alpha", "1+1j"], ["a"]),
     "peirce": (["peirce", "{a}"], ["a"]),
     "peirce-inverse": (["peirce", "{a}", "--inverse"], ["a"]),

@@ -165,7 +165,7 @@ def generator_between(source: Cap, target: Cap, twist: float = 0.0) -> Mobius:
     gap = source.distance(target)
     if gap <= 0:
         raise InvalidValueError(
-            f"the disks {source.as_list()} and {target.as_list()} overlap by {-gap:.3g} degrees"
+            f"the disks {_fmt(source)} and {_fmt(target)} overlap by {-gap:.3g} degrees"
         )
     # Caps as unit spacelike vectors of Minkowski space (signature +---); the limit points
     # are the null vectors of the plane they span.
@@ -266,8 +266,8 @@ class Schottky(SphereMap):
             kind = m.classify()
             if kind not in ("hyperbolic", "loxodromic"):
                 raise InvalidValueError(
-                    f"generator {i + 1}: expected a hyperbolic (zooming) Möbius map, got a "
-                    f"{kind} one"
+                    f"generator {i + 1}: expected a hyperbolic (zooming) Möbius map, got "
+                    f"{'an' if kind[0] in 'aeiou' else 'a'} {kind} one"
                 )
             nn, r = cap_image(m, cap)
             if r > 90 + 1e-9:
