@@ -191,13 +191,46 @@ def generator_between(source: Cap, target: Cap, twist: float = 0.0) -> Mobius:
     return Mobius.zoom_between(p, q, factor)
 
 
-def _contraction(m: Mobius, cap: Cap) -> float:
-    """Largest spherical magnification of ``m`` on the outside of ``cap`` (sampled)."""
+def _in_cap(cap: Cap, n: int, rng: np.random.Generator) -> NDArray[np.float64]:
+    """``n`` points spread over a cap (with its boundary)."""
+    c = cap.normal
+    helper = np.array([1.0, 0, 0]) if abs(c[0]) < 0.9 else np.array([0, 1.0, 0])
+    e1 = np.cross(c, helper)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(c, e1)
+    cos_d = 1 - rng.random(n) * (1 - cap.cos_r)
+    cos_d[: n // 4] = cap.cos_r
+    sin_d = np.sqrt(np.maximum(0.0, 1 - cos_d**2))
+    phi = rng.random(n) * 2 * np.pi
+    return cos_d[:, None] * c + sin_d[:, None] * (
+        np.cos(phi)[:, None] * e1 + np.sin(phi)[:, None] * e2
+    )
+
+
+def _default_depth(gens: list[tuple[Cap, Mobius]], targets: list[Cap]) -> int:
+    """Enough steps that what is left unreduced lies in disks below a pixel at 8192 across.
+
+    After ``k`` steps the points not yet reduced lie in the disks of words of ``k + 1``
+    letters, each the image of a disk under a word of ``k`` letters. A letter (``X`` or
+    ``X^-1``) is applied only to points of the disks other than the one it maps out of, so
+    its largest magnification there bounds how much each letter shrinks a copy.
+    """
     rng = np.random.default_rng(0)
-    v = rng.normal(size=(4000, 3))
-    v /= np.linalg.norm(v, axis=1, keepdims=True)
-    v = np.concatenate([v[~cap.contains(v)], _circle_points(cap, 256)])
-    return float(m.local_scale(coords.cp1_from_xyz(v)).max())
+    caps = [c for c, _ in gens] + targets
+    n = len(gens)
+    samples = [_in_cap(c, 2000, rng) for c in caps]
+    mu = 0.0
+    for i, (_, m) in enumerate(gens):
+        for letter, own in ((m, i), (m.inverse(), n + i)):
+            for j, pts in enumerate(samples):
+                if j != own:
+                    mu = max(mu, float(letter.local_scale(coords.cp1_from_xyz(pts)).max()))
+    big = max(math.radians(c.radius) for c in caps)
+    pixel = 2 * math.pi / DEFAULT_WIDTH
+    if mu >= 0.999:
+        return 200
+    need = math.log(pixel / (2 * big)) / math.log(mu)
+    return min(MAX_DEPTH, int(math.ceil(need)) + 2)
 
 
 @register_map
@@ -292,15 +325,7 @@ class Schottky(SphereMap):
                     )
         if depth is None:
             self._depth_given = None
-            mu = max(
-                max(_contraction(m, cap), _contraction(m.inverse(), t))
-                for (cap, m), t in zip(gens, targets, strict=True)
-            )
-            if mu < 0.999:
-                need = math.log(math.pi / (2 * math.pi / DEFAULT_WIDTH)) / -math.log(mu)
-                self._depth = min(MAX_DEPTH, int(math.ceil(need)) + 2)
-            else:
-                self._depth = 200
+            self._depth = _default_depth(gens, targets)
         else:
             if isinstance(depth, bool) or not isinstance(depth, (int, np.integer)):
                 raise InvalidValueError(f"depth: expected an integer, got {depth!r}")
