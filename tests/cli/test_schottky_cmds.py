@@ -103,3 +103,30 @@ def test_errors_are_one_line(pattern, args, message):
     import re
 
     assert re.search(message, err), err
+
+
+def test_mask_workflow(pattern):
+    from spherewarp.maps import Mobius
+    from spherewarp.maps.schottky import Cap, cap_from_mask, generator_between
+
+    path, pixels = pattern
+    h, w = pixels.shape[:2]
+    mask = np.zeros((h, w, 3), np.uint8)
+    mask[26:38, 60:68] = (255, 0, 0)  # red: round lon 0, lat 0
+    mask[10:16, 10:16] = (0, 255, 0)  # green: up and to the west
+    write_image("mask.png", mask)
+    ok(None, "schottky", path, "-o", "m.png", "--mask", "mask.png",
+       "--target", "red", "170,0,20", "--target", "green", "30")  # fmt: skip
+    red, green = cap_from_mask(mask, (1, 0, 0)), cap_from_mask(mask, (0, 1, 0))
+    assert abs(red.lon) < 2 and abs(red.lat) < 2
+    s = Schottky(
+        [
+            (red, generator_between(red, Cap(170, 0, 20))),
+            (green, Mobius.zoom((green.lon, green.lat), 30)),
+        ]
+    )
+    assert np.array_equal(read_image("m.png").pixels, warp(pixels, s))
+    err = fails(None, "schottky", path, "-o", "m2.png", "--mask", "mask.png", "--target",
+                "blue", "3")  # fmt: skip
+    assert "no pixel of the colour #0000ff" in err
+    assert "--target goes with --mask" in fails(None, "schottky", path, "--target", "red", "3")

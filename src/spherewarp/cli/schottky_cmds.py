@@ -16,7 +16,7 @@ from typing import Any
 
 import click
 
-from ._common import RealType, RenderOptions, example, input_argument, render_options
+from ._common import ColorType, RealType, RenderOptions, example, input_argument, render_options
 
 __all__ = ["schottky"]
 
@@ -113,6 +113,24 @@ DEGREES = RealType("degrees", "30", metavar="DEG")
     help="Render N frames of a seamless zoom loop: OUT_0000.png ... (or a pattern "
     "with one field %0Nd or {:0Nd}, N = 1..9, such as frames/%04d.png).",
 )
+@click.option(
+    "--mask",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="An equirectangular mask image, one colour per disk D_x (the paper's workflow: "
+    "the window red, the mirror green); each disk is the round disk round its colour. "
+    "Name where each goes with --target.",
+)
+@click.option(
+    "--target",
+    "targets",
+    type=(ColorType(), str),
+    multiple=True,
+    metavar="COLOUR WHERE",
+    help="With --mask (repeatable): the disk of COLOUR (a name such as red, or #RRGGBB) "
+    "and where its outside goes: a disk LON,LAT,R (as after '->' in --generator), or a "
+    "zoom factor F > 1 (X zooms by F about the disk's centre, fixing its antipode: a "
+    "Droste portal there).",
+)
 @click.option("--print", "print_map", is_flag=True, help="Print the map as JSON, render nothing.")
 @render_options
 def schottky(
@@ -120,6 +138,8 @@ def schottky(
     render: RenderOptions,
     generators: tuple[tuple[str, Any, Any], ...],
     twists: tuple[float, ...],
+    mask: Path | None,
+    targets: tuple[tuple[str, str], ...],
     depth: int | None,
     phase: float,
     frames: int | None,
@@ -137,8 +157,12 @@ def schottky(
     from ._common import load_input, output_name, output_path, save_output
     from .droste_cmds import _check_suffix, frame_paths
 
-    if not generators:
-        raise click.UsageError("name at least one --generator")
+    if mask is not None and not targets:
+        raise click.UsageError("--mask needs --target COLOUR WHERE for each disk it holds")
+    if targets and mask is None:
+        raise click.UsageError("--target goes with --mask")
+    if not generators and mask is None:
+        raise click.UsageError("name at least one --generator (or --mask with --target)")
     n_pairs = sum(1 for g in generators if g[0] == "disks")
     if twists and len(twists) not in (1, n_pairs):
         raise click.UsageError(
@@ -148,6 +172,10 @@ def schottky(
         raise click.UsageError("--twist goes with 'LON,LAT,R -> LON,LAT,R' generators")
     tw = list(twists) * n_pairs if len(twists) == 1 else list(twists) or [0.0] * n_pairs
 
+    if not print_map and mask is not None:
+        from ._files import job
+
+        job().reads(mask, "--mask image")
     if not print_map:  # every file written, checked before any work
         if frames is None:
             _check_suffix(output_path(render, input, "schottky"))
@@ -172,10 +200,33 @@ def schottky(
         except InvalidValueError as exc:
             raise InvalidValueError(f"--generator {i + 1}: {exc}") from None
         gens.append((src, m))
+    if mask is not None:
+        from ..io import read_image
+        from ..io.tonemap import parse_color
+        from ..maps.schottky import cap_from_mask
+
+        pixels = read_image(mask, max_pixels=render.max_pixels).pixels
+        for colour, where in targets:
+            try:
+                cap = cap_from_mask(pixels, parse_color(colour))
+                if "," in where:
+                    m = generator_between(cap, Cap(*_disk(where)))
+                else:
+                    f = float(where)
+                    if not (math.isfinite(f) and f > 1):
+                        raise ValueError(f"expected a zoom factor > 1 or LON,LAT,R, got {where!r}")
+                    m = Mobius.zoom((cap.lon, cap.lat), f)
+            except (InvalidValueError, ValueError) as exc:
+                msg = str(exc)
+                if msg.startswith("could not convert"):
+                    msg = f"expected a zoom factor > 1 or a disk LON,LAT,R, got {where!r}"
+                raise InvalidValueError(f"--target {colour}: {msg}") from None
+            gens.append((cap, m))
     try:
         s = Schottky(gens, depth=depth, phase=phase)
     except InvalidValueError as exc:
-        raise InvalidValueError(f"--generator: {exc}") from None
+        opts = "/".join(o for o, v in (("--generator", generators), ("--target", targets)) if v)
+        raise InvalidValueError(f"{opts}: {exc}") from None
     if print_map:
         click.echo(s.to_json())
         return

@@ -38,7 +38,7 @@ from ..errors import InvalidValueError
 from .base import PullBack, SphereMap, register_map
 from .mobius import Mobius
 
-__all__ = ["Cap", "Schottky", "cap_image", "generator_between"]
+__all__ = ["Cap", "Schottky", "cap_from_mask", "cap_image", "generator_between"]
 
 ComplexArray = NDArray[np.complex128]
 
@@ -189,6 +189,54 @@ def generator_between(source: Cap, target: Cap, twist: float = 0.0) -> Mobius:
     rho2 = abs(complex(coords.plane_from_cp1(chart.pull_cp1(z2))))
     factor = (rho2 / rho1) * complex(math.cos(math.radians(twist)), math.sin(math.radians(twist)))
     return Mobius.zoom_between(p, q, factor)
+
+
+def cap_from_mask(
+    mask: NDArray, color: tuple[float, float, float], *, tolerance: float = 0.25
+) -> Cap:
+    """The round disk round the pixels of one colour of an equirectangular mask.
+
+    The centre is the area-weighted mean direction of the pixels within
+    ``tolerance`` (0..1 per channel) of ``color`` (0..1 sRGB), the radius the
+    largest angle from it to their pixel centres plus half a pixel diagonal:
+    the smallest cap about that centre holding the traced region.
+
+    Raises
+    ------
+    InvalidValueError
+        If no pixel has that colour, or the region is larger than a hemisphere.
+
+    Examples
+    --------
+    >>> m = np.zeros((90, 180, 3), np.uint8)
+    >>> m[40:50, 85:95] = (255, 0, 0)
+    >>> c = cap_from_mask(m, (1.0, 0.0, 0.0))
+    >>> round(c.lon, 6) + 0.0, round(c.lat, 6) + 0.0, 13 < c.radius < 15
+    (0.0, 0.0, True)
+    """
+    px = np.asarray(mask)
+    if px.ndim == 2:
+        px = px[..., None]
+    scale = 255.0 if px.dtype == np.uint8 else 65535.0 if px.dtype == np.uint16 else 1.0
+    rgb = px[..., :3].astype(np.float64) / scale
+    if rgb.shape[2] == 1:
+        rgb = np.repeat(rgb, 3, axis=2)
+    hit = np.all(np.abs(rgb - np.asarray(color, dtype=np.float64)) <= tolerance, axis=2)
+    if not hit.any():
+        shown = "#" + "".join(f"{round(255 * v):02x}" for v in color)
+        raise InvalidValueError(f"the mask has no pixel of the colour {shown}")
+    h, w = hit.shape
+    ys, xs = np.nonzero(hit)
+    lonlat = coords.lonlat_from_pixel(np.stack([xs + 0.5, ys + 0.5], axis=-1), w, h)
+    xyz = coords.xyz_from_lonlat(lonlat)
+    c = (xyz * np.cos(lonlat[:, 1:2])).sum(axis=0)
+    if np.linalg.norm(c) < 1e-9:
+        raise InvalidValueError("the mask region of one colour surrounds the sphere")
+    c /= np.linalg.norm(c)
+    ang = float(np.degrees(np.arccos(np.clip(xyz @ c, -1, 1))).max())
+    ang += math.hypot(360 / w, 180 / h) / 2
+    lon, lat = np.degrees(coords.lonlat_from_xyz(c))
+    return Cap(float(lon), float(lat), ang)
 
 
 def _in_cap(cap: Cap, n: int, rng: np.random.Generator) -> NDArray[np.float64]:
