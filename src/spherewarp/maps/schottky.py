@@ -36,6 +36,7 @@ from numpy.typing import NDArray
 from .. import coords
 from ..errors import InvalidValueError
 from .base import PullBack, SphereMap, register_map
+from .droste import check_phase
 from .mobius import Mobius
 
 __all__ = ["Cap", "Schottky", "cap_from_mask", "cap_image", "generator_between"]
@@ -381,13 +382,7 @@ class Schottky(SphereMap):
                 raise InvalidValueError(f"depth: expected 1..{MAX_DEPTH}, got {depth}")
             self._depth_given = int(depth)
             self._depth = int(depth)
-        try:
-            t = float(phase)
-        except (TypeError, ValueError):
-            raise InvalidValueError(f"phase: expected a number, got {phase!r}") from None
-        if not math.isfinite(t):
-            raise InvalidValueError(f"phase: expected a finite number, got {phase!r}")
-        self._phase = t
+        t = self._phase = check_phase(phase)
         self._pre = gens[0][1].power(-t) if t else None
 
     @classmethod
