@@ -26,6 +26,9 @@ PICKS = {  # demo file stem -> README picture
     "15-peirce-torus": "peirce-torus.jpg",
 }
 
+#: the README's Schottky picture: the window onto the carpet, the framed picture onto the ceiling
+SCHOTTKY = ["--generator", "38,8,24 -> -40,-55,22", "--generator", "-163,5,9 -> -110,55,18"]
+
 
 def main() -> None:
     OUT.mkdir(parents=True, exist_ok=True)
@@ -47,6 +50,15 @@ def main() -> None:
         )  # fmt: skip
         pixels = np.asarray(Image.open(planet).convert("RGB"))
         Image.fromarray(pixels).save(OUT / "little-planet.jpg", quality=82, optimize=True)
+        # a Schottky group: the window and the framed picture as the disks D_a, D_b
+        schottky = Path(tmp) / "schottky.png"
+        subprocess.run(
+            [sys.executable, "-m", "spherewarp", "schottky", str(src), *SCHOTTKY, "--size",
+             "1024x512", "--supersample", "2", "-q", "-o", str(schottky)],
+            check=True,
+        )  # fmt: skip
+        pixels = np.asarray(Image.open(schottky).convert("RGB"))
+        Image.fromarray(pixels).save(OUT / "schottky.jpg", quality=82, optimize=True)
     print("\n".join(sorted(p.name for p in OUT.iterdir())))
 
 

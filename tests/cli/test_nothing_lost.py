@@ -38,6 +38,8 @@ CASES: dict[str, tuple[list[str], list[str]]] = {
     "droste-mask": (["droste", "{a}", "--mask", "{b}"], ["a", "b"]),
     "droste-inside": (["droste", "{a}", *CENTER, "--inside", "{b}"], ["a", "b"]),
     "droste-log": (["droste", "{a}", *CENTER, "--view", "log"], ["a"]),
+    "schottky": (["schottky", "{a}", "--generator", "0,0,20 -> 180,0,20"], ["a"]),
+    "schottky-mask": (["schottky", "{a}", "--mask", "{b}", "--target", "white", "4"], ["a", "b"]),
     "lattes": (["lattes", "{a}", "--alpha", "1+1j"], ["a"]),
     "peirce": (["peirce", "{a}"], ["a"]),
     "peirce-inverse": (["peirce", "{a}", "--inverse"], ["a"]),

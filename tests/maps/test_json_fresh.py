@@ -31,6 +31,7 @@ from spherewarp.maps import (
     Mobius,
     Power,
     Rational,
+    Schottky,
     SphereMap,
     map_from_json,
 )
@@ -58,6 +59,7 @@ EXAMPLES: dict[str, Callable[[], SphereMap]] = {
     "twisted_droste": lambda: _droste(twist=True),
     "lattes": lambda: Lattes("2+1j", "square"),
     "rational": lambda: Rational([1, 0, 1], [2, 0]),
+    "schottky": lambda: Schottky.from_disk_pairs([((-163, 5, 12), (17, -5, 25))], phase=0.5),
     "sheeted_cover": lambda: SheetedCover(
         Power(4), 2, seam=30.0, view=Mobius.from_yaw_pitch_roll(10, 20)
     ),

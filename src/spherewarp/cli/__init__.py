@@ -38,6 +38,7 @@ COMMANDS: dict[str, str] = {
     "info": "misc_cmds:info",
     "demo": "misc_cmds:demo",
     "droste": "droste_cmds:droste",
+    "schottky": "schottky_cmds:schottky",
     "lattes": "elliptic_cmds:lattes",
     "fit-rational": "elliptic_cmds:fit_rational_cmd",
     "peirce": "elliptic_cmds:peirce",

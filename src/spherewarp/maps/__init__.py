@@ -13,6 +13,7 @@ module                          maps
 :mod:`~.droste`                 :class:`Droste`, :class:`TwistedDroste`
 :mod:`~.rational`               :class:`Rational`, :func:`fit_rational`
 :mod:`~.elliptic`               :class:`Lattes`
+:mod:`~.schottky`               :class:`Schottky`
 ==============================  =============================================
 
 Names are imported on first use, so that the command line starts fast.
@@ -38,6 +39,7 @@ _LAZY = {
     "ExpressionMap": "expression",
     "FunctionMap": "expression",
     "Rational": "rational",
+    "Schottky": "schottky",
     "RationalFit": "rational",
     "fit_rational": "rational",
 }
@@ -52,6 +54,7 @@ MAP_MODULES = (
     "spherewarp.maps.elliptic",
     "spherewarp.maps.expression",
     "spherewarp.maps.rational",
+    "spherewarp.maps.schottky",
     "spherewarp.splitscreen",
 )
 
@@ -76,6 +79,7 @@ __all__ = [
     "Rational",
     "RationalFit",
     "fit_rational",
+    "Schottky",
 ]
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -84,6 +88,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .elliptic import Lattes
     from .expression import ExpressionMap, FunctionMap
     from .rational import Rational, RationalFit, fit_rational
+    from .schottky import Schottky
 
 
 def __getattr__(name: str) -> Any:

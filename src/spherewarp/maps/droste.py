@@ -136,6 +136,17 @@ def _check_int(value: Any, name: str) -> int:
     return int(value)
 
 
+def check_phase(phase: Any) -> float:
+    """A zoom phase as a finite float (:class:`InvalidValueError` otherwise)."""
+    try:
+        t = float(phase)
+    except (TypeError, ValueError):
+        raise InvalidValueError(f"phase: expected a number, got {phase!r}") from None
+    if not math.isfinite(t):
+        raise InvalidValueError(f"phase: expected a finite number, got {phase!r}")
+    return t
+
+
 def _coefficients(strands: int, periodicity: int) -> tuple[int, int]:
     """Integers ``(c, d)`` with ``periodicity * c - strands * d == 1``."""
     # extended Euclid on (periodicity, -strands)
@@ -245,13 +256,7 @@ class Droste(SphereMap):
             raise InvalidValueError(f"scale: expected a scale below 1e100, got {scale!r}")
         self._scale = lam
         self._ell = math.log(lam)
-        try:
-            t = float(phase)
-        except (TypeError, ValueError):
-            raise InvalidValueError(f"phase: expected a number, got {phase!r}") from None
-        if not math.isfinite(t):
-            raise InvalidValueError(f"phase: expected a finite number, got {phase!r}")
-        self._phase = t
+        self._phase = check_phase(phase)
         n = _check_int(n_images, "n_images")
         if n < 1:
             raise InvalidValueError(f"n_images: expected an integer >= 1, got {n_images!r}")

@@ -1,0 +1,529 @@
+"""Schottky groups: several Droste effects at once (paper, "Schottky groups").
+
+Each generator is a closed disk ``D_x`` of the sphere (a spherical cap:
+centre and angular radius) and a hyperbolic or loxodromic Möbius map ``X``
+that takes the outside of ``D_x`` onto a second disk ``D_X = X(C - D_x)``.
+All the disks are pairwise disjoint. For an output point ``q``, while ``q``
+lies in a disk it is replaced (``q`` in ``D_X``: ``X^-1(q)``; ``q`` in
+``D_x``: ``X(q)``); once it lies outside every disk (the fundamental region)
+the input is sampled there. One generator is the straight Droste effect: the
+fundamental region is the annulus between ``D_x`` and ``D_X``.
+
+The image is invariant under every generator. The reduction stops after
+``depth`` steps; points not reduced by then (next to the limit set, a Cantor
+dust) are undefined: background or alpha 0.
+
+Convention: points are unit-norm pairs in the default chart
+(:mod:`spherewarp.coords`); disks are ``(lon, lat, radius)`` in degrees.
+
+Examples
+--------
+>>> from spherewarp.maps import Schottky
+>>> s = Schottky.from_disk_pairs([((0, 0, 20), (180, 0, 20))])
+>>> s.apply_lonlat([[90.0, 0.0]]).round(6) + 0.0   # the fundamental region is fixed
+array([[90.,  0.]])
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .. import coords
+from ..errors import InvalidValueError
+from .base import PullBack, SphereMap, register_map
+from .droste import check_phase
+from .mobius import Mobius
+
+__all__ = ["Cap", "Schottky", "cap_from_mask", "cap_image", "generator_between"]
+
+ComplexArray = NDArray[np.complex128]
+
+#: default output width the depth cap is chosen for (copies beyond it are below a pixel)
+DEFAULT_WIDTH = 8192
+#: the most reduction steps allowed
+MAX_DEPTH = 10000
+
+
+class Cap:
+    """A closed spherical cap ``{v : n . v >= cos r}``.
+
+    Parameters
+    ----------
+    lon, lat : float
+        The centre, degrees.
+    radius : float
+        The angular radius, degrees, in (0, 90].
+
+    Examples
+    --------
+    >>> c = Cap(0, 90, 10)
+    >>> bool(c.contains(np.array([0.0, 0.0, 1.0])))
+    True
+    """
+
+    def __init__(self, lon: float, lat: float, radius: float):
+        try:
+            lon, lat, radius = float(lon), float(lat), float(radius)
+        except (TypeError, ValueError):
+            raise InvalidValueError(
+                f"expected a disk LON,LAT,R of numbers, got {(lon, lat, radius)!r:.80}"
+            ) from None
+        if not all(math.isfinite(v) for v in (lon, lat, radius)):
+            raise InvalidValueError(f"expected a finite disk LON,LAT,R, got {lon}, {lat}, {radius}")
+        if not -90 <= lat <= 90:
+            raise InvalidValueError(f"expected a latitude in [-90, 90] for a disk, got {lat}")
+        if not 0 < radius <= 90 + 1e-9:
+            raise InvalidValueError(
+                "expected a disk radius in (0, 90] degrees (at most a hemisphere), "
+                f"got {radius:.6g}"
+            )
+        self.lon, self.lat, self.radius = lon, lat, radius
+        self.normal = coords.xyz_from_lonlat(np.radians([lon, lat]))
+        self.cos_r = math.cos(math.radians(radius))
+
+    @classmethod
+    def from_normal(cls, normal: NDArray[np.float64], radius_deg: float) -> Cap:
+        lon, lat = np.degrees(coords.lonlat_from_xyz(normal / np.linalg.norm(normal)))
+        return cls(float(lon), float(lat), radius_deg)
+
+    def contains(self, xyz: NDArray[np.float64], strict: bool = False) -> NDArray[np.bool_]:
+        """Points in the cap (``strict``: in its interior)."""
+        d = xyz @ self.normal
+        return d > self.cos_r if strict else d >= self.cos_r
+
+    def distance(self, other: Cap) -> float:
+        """Angular gap between the caps, degrees (negative: they overlap by that much)."""
+        ang = math.degrees(math.acos(max(-1.0, min(1.0, float(self.normal @ other.normal)))))
+        return ang - self.radius - other.radius
+
+    def as_list(self) -> list[float]:
+        return [self.lon, self.lat, self.radius]
+
+    def __repr__(self) -> str:
+        return f"Cap({self.lon:.6g}, {self.lat:.6g}, {self.radius:.6g})"
+
+
+def _circle_points(cap: Cap, n: int = 3) -> NDArray[np.float64]:
+    c = cap.normal
+    helper = np.array([1.0, 0, 0]) if abs(c[0]) < 0.9 else np.array([0, 1.0, 0])
+    e1 = np.cross(c, helper)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(c, e1)
+    r = math.radians(cap.radius)
+    phi = 2 * np.pi * np.arange(n) / n
+    return math.cos(r) * c + math.sin(r) * (
+        np.cos(phi)[:, None] * e1[None] + np.sin(phi)[:, None] * e2[None]
+    )
+
+
+def cap_image(m: Mobius, cap: Cap) -> tuple[NDArray[np.float64], float]:
+    """``m`` of the *outside* of ``cap``: ``(normal, radius_deg)`` of the image cap.
+
+    The radius may exceed 90 (the caller refuses it).
+    """
+    pts = m.apply_xyz(_circle_points(cap, 3))
+    nn = np.cross(pts[1] - pts[0], pts[2] - pts[0])
+    nn /= np.linalg.norm(nn)
+    d = float(nn @ pts[0])
+    inside = m.apply_xyz(-cap.normal)  # a point outside the cap (radius <= 90)
+    if float(nn @ inside) < d:
+        nn, d = -nn, -d
+    return nn, math.degrees(math.acos(max(-1.0, min(1.0, d))))
+
+
+def generator_between(source: Cap, target: Cap, twist: float = 0.0) -> Mobius:
+    """The Möbius map taking the outside of ``source`` onto the inside of ``target``.
+
+    Two disjoint circles have one pair of points symmetric in both (the
+    limit points of the pencil of circles they span), one in each disk. In a
+    chart with those points at 0 and infinity both circles are centred, and
+    the map chosen is the multiplication by the ratio of their radii: the
+    hyperbolic map fixing the two limit points (its axis is the geodesic of
+    hyperbolic space through them, perpendicular to both circles). ``twist``
+    (degrees) turns it about the same fixed points as well (a loxodromic map);
+    every map of this family commutes with the others.
+
+    Raises
+    ------
+    InvalidValueError
+        If the disks overlap or touch.
+
+    Examples
+    --------
+    >>> a, b = Cap(0, 0, 20), Cap(180, 0, 20)
+    >>> m = generator_between(a, b)
+    >>> m.classify()
+    'hyperbolic'
+    >>> n, r = cap_image(m, a)
+    >>> round(r, 9), bool(np.allclose(n, b.normal))
+    (20.0, True)
+    """
+    gap = source.distance(target)
+    if gap <= 0:
+        raise InvalidValueError(
+            f"the disks {_fmt(source)} and {_fmt(target)} overlap by {-gap:.3g} degrees"
+        )
+    # Caps as unit spacelike vectors of Minkowski space (signature +---); the limit points
+    # are the null vectors of the plane they span.
+    r1, r2 = math.radians(source.radius), math.radians(target.radius)
+    s1 = np.concatenate([[math.cos(r1)], source.normal]) / math.sin(r1)
+    s2 = np.concatenate([[math.cos(r2)], target.normal]) / math.sin(r2)
+    k = (s1[0] * s2[0] - s1[1:] @ s2[1:]) * 1.0
+    root = math.sqrt(max(k * k - 1.0, 0.0))
+    pts = []
+    for t in (k + root, k - root):
+        v = s1 + t * s2
+        pts.append(v[1:] / v[0])
+    pts = [p / np.linalg.norm(p) for p in pts]
+    if source.contains(pts[1]) and not source.contains(pts[0]):
+        pts.reverse()
+    p, q = (coords.cp1_from_xyz(v) for v in pts)  # p in the source disk, q in the target
+    chart = Mobius([[q[1], -q[0]], [p[1], -p[0]]])  # q -> 0, p -> inf
+    z1 = coords.cp1_from_xyz(_circle_points(source, 1)[0])
+    z2 = coords.cp1_from_xyz(_circle_points(target, 1)[0])
+    rho1 = abs(complex(coords.plane_from_cp1(chart.pull_cp1(z1))))
+    rho2 = abs(complex(coords.plane_from_cp1(chart.pull_cp1(z2))))
+    factor = (rho2 / rho1) * complex(math.cos(math.radians(twist)), math.sin(math.radians(twist)))
+    return Mobius.zoom_between(p, q, factor)
+
+
+def cap_from_mask(
+    mask: NDArray, color: tuple[float, float, float], *, tolerance: float = 0.25
+) -> Cap:
+    """The round disk round the pixels of one colour of an equirectangular mask.
+
+    The centre is the area-weighted mean direction of the pixels within
+    ``tolerance`` (0..1 per channel) of ``color`` (0..1 sRGB), the radius the
+    largest angle from it to their pixel centres plus half a pixel diagonal:
+    the smallest cap about that centre holding the traced region.
+
+    Raises
+    ------
+    InvalidValueError
+        If no pixel has that colour, or the region is larger than a hemisphere.
+
+    Examples
+    --------
+    >>> m = np.zeros((90, 180, 3), np.uint8)
+    >>> m[40:50, 85:95] = (255, 0, 0)
+    >>> c = cap_from_mask(m, (1.0, 0.0, 0.0))
+    >>> round(c.lon, 6) + 0.0, round(c.lat, 6) + 0.0, 13 < c.radius < 15
+    (0.0, 0.0, True)
+    """
+    px = np.asarray(mask)
+    if px.ndim == 2:
+        px = px[..., None]
+    scale = 255.0 if px.dtype == np.uint8 else 65535.0 if px.dtype == np.uint16 else 1.0
+    rgb = px[..., :3].astype(np.float64) / scale
+    if rgb.shape[2] == 1:
+        rgb = np.repeat(rgb, 3, axis=2)
+    hit = np.all(np.abs(rgb - np.asarray(color, dtype=np.float64)) <= tolerance, axis=2)
+    if not hit.any():
+        shown = "#" + "".join(f"{round(255 * v):02x}" for v in color)
+        raise InvalidValueError(f"the mask has no pixel of the colour {shown}")
+    h, w = hit.shape
+    ys, xs = np.nonzero(hit)
+    lonlat = coords.lonlat_from_pixel(np.stack([xs + 0.5, ys + 0.5], axis=-1), w, h)
+    xyz = coords.xyz_from_lonlat(lonlat)
+    c = (xyz * np.cos(lonlat[:, 1:2])).sum(axis=0)
+    if np.linalg.norm(c) < 1e-9:
+        raise InvalidValueError("the mask region of one colour surrounds the sphere")
+    c /= np.linalg.norm(c)
+    ang = float(np.degrees(np.arccos(np.clip(xyz @ c, -1, 1))).max())
+    ang += math.hypot(360 / w, 180 / h) / 2
+    lon, lat = np.degrees(coords.lonlat_from_xyz(c))
+    return Cap(float(lon), float(lat), ang)
+
+
+def _in_cap(cap: Cap, n: int, rng: np.random.Generator) -> NDArray[np.float64]:
+    """``n`` points spread over a cap (with its boundary)."""
+    c = cap.normal
+    helper = np.array([1.0, 0, 0]) if abs(c[0]) < 0.9 else np.array([0, 1.0, 0])
+    e1 = np.cross(c, helper)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(c, e1)
+    cos_d = 1 - rng.random(n) * (1 - cap.cos_r)
+    cos_d[: n // 4] = cap.cos_r
+    sin_d = np.sqrt(np.maximum(0.0, 1 - cos_d**2))
+    phi = rng.random(n) * 2 * np.pi
+    return cos_d[:, None] * c + sin_d[:, None] * (
+        np.cos(phi)[:, None] * e1 + np.sin(phi)[:, None] * e2
+    )
+
+
+def _default_depth(gens: list[tuple[Cap, Mobius]], targets: list[Cap]) -> int:
+    """Enough steps that what is left unreduced lies in disks below a pixel at 8192 across.
+
+    After ``k`` steps the points not yet reduced lie in the disks of words of ``k + 1``
+    letters, each the image of a disk under a word of ``k`` letters. A letter (``X`` or
+    ``X^-1``) is applied only to points of the disks other than the one it maps out of, so
+    its largest magnification there bounds how much each letter shrinks a copy.
+    """
+    rng = np.random.default_rng(0)
+    caps = [c for c, _ in gens] + targets
+    n = len(gens)
+    samples = [_in_cap(c, 2000, rng) for c in caps]
+    mu = 0.0
+    for i, (_, m) in enumerate(gens):
+        for letter, own in ((m, i), (m.inverse(), n + i)):
+            for j, pts in enumerate(samples):
+                if j != own:
+                    mu = max(mu, float(letter.local_scale(coords.cp1_from_xyz(pts)).max()))
+    big = max(math.radians(c.radius) for c in caps)
+    pixel = 2 * math.pi / DEFAULT_WIDTH
+    if mu >= 0.999:
+        return 200
+    need = math.log(pixel / (2 * big)) / math.log(mu)
+    return min(MAX_DEPTH, int(math.ceil(need)) + 2)
+
+
+@register_map
+class Schottky(SphereMap):
+    """The Schottky map: reduce each point into the fundamental region.
+
+    Parameters
+    ----------
+    generators : sequence of (disk, matrix)
+        ``disk`` is ``(lon, lat, radius)`` in degrees (``D_x``) and ``matrix``
+        a :class:`Mobius` (or its 2x2 matrix) ``X``, which takes the outside of
+        ``D_x`` onto ``D_X``.
+    depth : int, optional
+        The most reduction steps; points not reduced by then are undefined.
+        Default: enough that the copies left are below a pixel of an output
+        8192 pixels wide.
+    phase : float
+        Pre-composes with ``X0 ** -phase`` (``X0`` the first generator, as
+        :class:`~spherewarp.maps.Droste` does with its zoom): phase 1 is the
+        same image as phase 0, and phases ``k/N`` make a seamless loop zooming
+        through the first generator's disks.
+
+    Raises
+    ------
+    InvalidValueError
+        For disks larger than a hemisphere, overlapping disks (the pair and
+        the overlap in degrees are named), a generator that is not hyperbolic
+        or loxodromic.
+
+    Examples
+    --------
+    >>> s = Schottky([((0, 0, 20), Mobius.zoom((0, 0), 8.0))])
+    >>> round(s.target_disks()[0].radius, 6)
+    70.666435
+    """
+
+    kind = "schottky"
+
+    def __init__(
+        self,
+        generators: Sequence[Any],
+        *,
+        depth: int | None = None,
+        phase: float = 0.0,
+    ):
+        gens: list[tuple[Cap, Mobius]] = []
+        try:
+            items = list(generators)
+        except TypeError:
+            raise InvalidValueError("generators: expected a list of (disk, matrix) pairs") from None
+        if not items:
+            raise InvalidValueError("expected at least one generator")
+        for i, g in enumerate(items):
+            try:
+                disk, mat = g
+            except (TypeError, ValueError):
+                raise InvalidValueError(
+                    f"generator {i + 1}: expected a (disk, matrix) pair, got {g!r:.80}"
+                ) from None
+            cap = disk if isinstance(disk, Cap) else Cap(*disk)
+            m = mat if isinstance(mat, Mobius) else Mobius(mat)
+            gens.append((cap, m))
+        self._gens = gens
+        targets: list[Cap] = []
+        for i, (cap, m) in enumerate(gens):
+            kind = m.classify()
+            if kind not in ("hyperbolic", "loxodromic"):
+                raise InvalidValueError(
+                    f"generator {i + 1}: expected a hyperbolic (zooming) Möbius map, got "
+                    f"{'an' if kind[0] in 'aeiou' else 'a'} {kind} one"
+                )
+            nn, r = cap_image(m, cap)
+            if r > 90 + 1e-9:
+                raise InvalidValueError(
+                    f"generator {i + 1}: its disk D_X = X(outside of D_x) has radius {r:.4g} "
+                    "degrees, more than a hemisphere (the map does not take the outside of "
+                    "D_x into a smaller disk)"
+                )
+            targets.append(Cap.from_normal(nn, r))
+        self._targets = targets
+        disks: list[tuple[str, Cap]] = []
+        for i, (cap, _) in enumerate(gens):
+            disks.append((f"D_x of generator {i + 1}", cap))
+            disks.append((f"D_X of generator {i + 1}", targets[i]))
+        for a in range(len(disks)):
+            for b in range(a + 1, len(disks)):
+                gap = disks[a][1].distance(disks[b][1])
+                if gap <= 0:
+                    raise InvalidValueError(
+                        f"the disks must be disjoint: {disks[a][0]} {_fmt(disks[a][1])} and "
+                        f"{disks[b][0]} {_fmt(disks[b][1])} overlap by {-gap:.3g} degrees"
+                    )
+        if depth is None:
+            self._depth_given = None
+            self._depth = _default_depth(gens, targets)
+        else:
+            if isinstance(depth, bool) or not isinstance(depth, (int, np.integer)):
+                raise InvalidValueError(f"depth: expected an integer, got {depth!r}")
+            if not 1 <= depth <= MAX_DEPTH:
+                raise InvalidValueError(f"depth: expected 1..{MAX_DEPTH}, got {depth}")
+            self._depth_given = int(depth)
+            self._depth = int(depth)
+        t = self._phase = check_phase(phase)
+        self._pre = gens[0][1].power(-t) if t else None
+
+    @classmethod
+    def from_disk_pairs(
+        cls, pairs: Sequence[Any], *, twists: Sequence[float] | None = None, **kwargs: Any
+    ) -> Schottky:
+        """From pairs of disks ``(D_x, D_X)``, each ``(lon, lat, radius)``.
+
+        Each generator is :func:`generator_between` of its pair (``twists``:
+        degrees, one per pair).
+
+        Examples
+        --------
+        >>> s = Schottky.from_disk_pairs([((0, 0, 20), (180, 0, 20))], twists=[30])
+        >>> s.generators[0][1].classify()
+        'loxodromic'
+        """
+        pairs = list(pairs)
+        twists = [0.0] * len(pairs) if twists is None else list(twists)
+        gens = []
+        for i, (pair, tw) in enumerate(zip(pairs, twists, strict=True)):
+            src, dst = (d if isinstance(d, Cap) else Cap(*d) for d in pair)
+            try:
+                gens.append((src, generator_between(src, dst, tw)))
+            except InvalidValueError as exc:
+                raise InvalidValueError(f"generator {i + 1}: {exc}") from None
+        return cls(gens, **kwargs)
+
+    # -- properties -----------------------------------------------------------------
+    @property
+    def generators(self) -> list[tuple[Cap, Mobius]]:
+        """The ``(D_x, X)`` pairs."""
+        return list(self._gens)
+
+    def target_disks(self) -> list[Cap]:
+        """The disks ``D_X = X(outside of D_x)``, one per generator."""
+        return list(self._targets)
+
+    @property
+    def depth(self) -> int:
+        """The most reduction steps."""
+        return self._depth
+
+    @property
+    def phase(self) -> float:
+        """The zoom phase."""
+        return self._phase
+
+    def with_phase(self, phase: float) -> Schottky:
+        """The same map at another phase."""
+        return type(self)._from_params({**self.params(), "phase": float(phase)})  # type: ignore[return-value]
+
+    # -- the reduction ------------------------------------------------------------------
+    def _reduce(self, zw: ComplexArray) -> tuple[ComplexArray, NDArray[np.bool_], NDArray]:
+        zw = coords.normalize_cp1(np.asarray(zw, dtype=np.complex128))
+        shape = zw.shape[:-1]
+        zw = zw.reshape(-1, 2)
+        scale = np.ones(zw.shape[0])
+        if self._pre is not None:
+            scale *= self._pre.local_scale(zw)
+            zw = self._pre.pull_cp1(zw)
+        n = len(self._gens)
+        # moves: 2*i applies X_i (point in D_x), 2*i + 1 applies X_i^-1 (point in D_X)
+        maps = []
+        caps = []
+        for (cap, m), t in zip(self._gens, self._targets, strict=True):
+            maps += [m, m.inverse()]
+            caps += [cap, t]
+        last = np.full(zw.shape[0], -1)
+        active = np.arange(zw.shape[0])
+        done = np.zeros(zw.shape[0], dtype=bool)
+        for _ in range(self._depth + 1):
+            if active.size == 0:
+                break
+            xyz = coords.xyz_from_cp1(zw[active])
+            move = np.full(active.size, -1)
+            for j in range(2 * n):
+                # never undo the last step (a point on a boundary would bounce)
+                hit = (move < 0) & caps[j].contains(xyz, strict=True) & (last[active] != (j ^ 1))
+                move[hit] = j
+            free = move < 0
+            done[active[free]] = True
+            active, move = active[~free], move[~free]
+            if _ == self._depth:
+                break
+            for j in range(2 * n):
+                sel = active[move == j]
+                if sel.size:
+                    scale[sel] *= maps[j].local_scale(zw[sel])
+                    zw[sel] = maps[j].pull_cp1(zw[sel])
+                    last[sel] = j
+        return zw.reshape(*shape, 2), done.reshape(shape), scale.reshape(shape)
+
+    def pull_cp1(self, zw: ComplexArray) -> ComplexArray:
+        return self._reduce(zw)[0]
+
+    def pull(self, zw: ComplexArray) -> PullBack:
+        points, done, _ = self._reduce(zw)
+        return PullBack(points, valid=done)
+
+    def local_scale(self, zw: ComplexArray) -> NDArray[np.float64]:
+        """The product of the generators' magnifications along the reduction."""
+        return self._reduce(zw)[2]
+
+    # -- plain data ------------------------------------------------------------------------
+    def params(self) -> dict[str, Any]:
+        out: dict[str, Any] = {
+            "generators": [
+                {"disk": cap.as_list(), "matrix": m.params()["matrix"]} for cap, m in self._gens
+            ]
+        }
+        if self._depth_given is not None:
+            out["depth"] = self._depth_given
+        if self._phase:
+            out["phase"] = self._phase
+        return out
+
+    @classmethod
+    def _from_params(cls, params: dict[str, Any]) -> SphereMap:
+        params = dict(params)
+        gens = []
+        for g in params.pop("generators"):
+            m = Mobius._from_params({"matrix": g["matrix"]})
+            gens.append((tuple(g["disk"]), m))
+        return cls(gens, **params)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Schottky):
+            return NotImplemented
+        return (
+            self._depth_given == other._depth_given
+            and self._phase == other._phase
+            and len(self._gens) == len(other._gens)
+            and all(
+                np.allclose(a.as_list(), b.as_list(), atol=1e-9) and m.isclose(n, 1e-9)
+                for (a, m), (b, n) in zip(self._gens, other._gens, strict=True)
+            )
+        )
+
+    __hash__ = None  # type: ignore[assignment]
+
+
+def _fmt(cap: Cap) -> str:
+    return f"({cap.lon:.4g},{cap.lat:.4g},{cap.radius:.4g})"
