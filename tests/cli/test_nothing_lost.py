@@ -44,6 +44,7 @@ CASES: dict[str, tuple[list[str], list[str]]] = {
     "torus": (["torus", "{a}"], ["a"]),
     "project": (["project", "{a}", "--to", "little-planet"], ["a"]),
     "project-from": (["project", "{a}", "--from", "cubemap-6x1"], ["a"]),
+    "video": (["video", "{a}", "zoom", "--at", "0,0", "--factor", "2"], ["a"]),
 }
 
 

@@ -23,11 +23,13 @@ writes an MP4/MOV file:
 
 from __future__ import annotations
 
+import contextlib
 import os
 import queue
+import sys
 import threading
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
@@ -212,6 +214,48 @@ def _pick_pix_fmt(enc: Any, in_pix: str, wanted: str | None) -> str:
     return "yuv420p" if "yuv420p" in offered else offered[0]
 
 
+@contextlib.contextmanager
+def _quiet_stderr() -> Iterator[None]:
+    """Silence file descriptor 2 (libx264 prints a bad preset there itself, past FFmpeg's log)."""
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+    except (OSError, ValueError):
+        yield
+        return
+    try:
+        with open(os.devnull, "wb") as null:
+            os.dup2(null.fileno(), 2)
+            yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+
+
+def _check_encoder(enc: Any, pix: str, options: dict[str, str], info: VideoInfo) -> None:
+    """Open the encoder once with its options, so a bad preset fails before anything is written."""
+    import av
+
+    cc = av.CodecContext.create(enc.name, "w")
+    cc.width, cc.height, cc.pix_fmt = info.width, info.height, pix
+    cc.time_base = info.time_base
+    cc.framerate = info.rate or Fraction(24)
+    cc.options = dict(options)
+    level = av.logging.get_level()
+    av.logging.set_level(av.logging.ERROR)  # PyAV's handler, so that Capture sees the messages
+    try:
+        with av.logging.Capture() as logs, _quiet_stderr():
+            cc.open()
+    except av.error.FFmpegError as exc:
+        said = "; ".join(str(m[2]).strip() for m in logs if m[0] <= av.logging.ERROR)
+        raise InvalidValueError(
+            f"{enc.name} refused its options ({said or exc.strerror}); "
+            "check --preset, --crf and --pix-fmt"
+        ) from None
+    finally:
+        av.logging.set_level(level)
+
+
 class _Stop(Exception):
     """Another stage failed or was stopped."""
 
@@ -317,6 +361,7 @@ def render_video(
     if enc.name == "libx265":
         options["x265-params"] = "log-level=error"
 
+    _check_encoder(enc, out_pix, options, info)
     import av
 
     with atomic_file(output, overwrite=overwrite) as tmp:
