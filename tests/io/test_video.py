@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import shutil
 import subprocess
+import warnings
 
 import numpy as np
 import pytest
@@ -39,8 +40,13 @@ def zoomed(clip, tmp_path_factory):
 
 
 def audio_packets(path):
+    """Each audio packet's bytes, and its time in milliseconds (time bases differ by container)."""
     with av.open(str(path)) as c:
-        return [(bytes(p), p.pts, p.dts) for p in c.demux(c.streams.audio[0]) if p.size]
+        return [
+            (bytes(p), round(float(p.pts * p.time_base) * 1000))
+            for p in c.demux(c.streams.audio[0])
+            if p.size
+        ]
 
 
 def frames(path):
@@ -148,3 +154,39 @@ def test_an_error_mid_render_leaves_nothing(tmp_path, clip):
 
 def test_encoders_listed():
     assert {"libx264", "libx265"} <= set(video_encoders())
+
+
+@pytest.mark.skipif(shutil.which("ffmpeg") is None, reason="ffmpeg is not installed")
+@pytest.mark.parametrize("container,codec", [("mp4", "mov_text"), ("mkv", "srt")])
+def test_subtitles_copied_or_dropped_with_a_warning(tmp_path, container, codec):
+    clip = make_clip(tmp_path / "c.mp4", frames=24)
+    srt = tmp_path / "s.srt"
+    srt.write_text(
+        "1\n00:00:00,000 --> 00:00:00,500\nhello\n\n2\n00:00:00,500 --> 00:00:01,000\nyou\n"
+    )
+    src = tmp_path / f"sub.{container}"
+    subprocess.run(
+        ["ffmpeg", "-v", "error", "-i", str(clip), "-i", str(srt), "-map", "0", "-map", "1"]
+        + ["-c", "copy", "-c:s", codec, str(src)],
+        check=True,
+    )
+    out = tmp_path / "o.mp4"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        render_video(src, out, lambda t: (ZOOM, {}))
+    with av.open(str(out)) as c:
+        kinds = [s.type for s in c.streams]
+    if codec == "mov_text":
+        assert kinds == ["video", "audio", "subtitle"] and not caught
+
+        def subs(path):
+            with av.open(str(path)) as c:
+                return [(bytes(p), p.pts) for p in c.demux(c.streams.subtitles[0]) if p.size]
+
+        assert subs(out) == subs(src) and len(subs(src)) == 2
+    else:
+        assert kinds == ["video", "audio"]
+        assert [str(w.message) for w in caught] == [
+            "stream #2 (subtitle, srt) is dropped: an MP4/MOV file cannot hold subtitle in srt"
+        ]
+    assert audio_packets(out) == audio_packets(src)

@@ -54,6 +54,11 @@ VIDEO_EXTENSIONS = (".mp4", ".mov", ".m4v")
 _QUEUE = 4  # frames in flight between two stages
 _DEFAULT_CRF = {"libx264": 18, "libx265": 20}
 _HIGH_DEPTH_RGB = "rgb48le"
+#: codecs copied into the output as they are (the MP4/MOV muxers take them); others are dropped
+_COPYABLE = {
+    "audio": ("aac", "mp3", "ac3", "eac3", "opus", "flac", "alac", "pcm_s16le", "pcm_s24le"),
+    "subtitle": ("mov_text",),
+}
 
 FrameMap = Callable[[float], tuple[SphereMap, dict[str, Any]]]
 
@@ -410,18 +415,17 @@ def _transcode(
     vout.thread_type = "AUTO"
     copies: dict[int, Any] = {}
     for s in src.streams:
-        if s is vin or s.type == "video":
-            if s is not vin:
-                warnings.warn(f"stream #{s.index} (a second video stream) is dropped", stacklevel=3)
+        if s is vin:
             continue
-        try:
+        name = s.codec_context.name if s.codec_context is not None else "unknown"
+        if s.type == "video":
+            why = "only the first video stream is warped"
+        elif name not in _COPYABLE.get(s.type, ()):
+            why = f"an MP4/MOV file cannot hold {s.type} in {name}"
+        else:
             copies[s.index] = dst.add_stream_from_template(s)
-        except Exception as exc:  # noqa: BLE001 - the muxer refuses this codec
-            warnings.warn(
-                f"stream #{s.index} ({s.type}, {s.codec_context.name}) is dropped: "
-                f"the output container cannot hold it ({exc})",
-                stacklevel=3,
-            )
+            continue
+        warnings.warn(f"stream #{s.index} ({s.type}, {name}) is dropped: {why}", stacklevel=3)
     total = info.frames
     stop = threading.Event()
     decoded: queue.Queue = queue.Queue(_QUEUE)
