@@ -126,3 +126,15 @@ def test_ctrl_c_leaves_no_file(workdir):
     assert proc.returncode == 130, err
     assert err.startswith("spherewarp: interrupted") and err.count("\n") == 1, err
     assert sorted(p.name for p in workdir.iterdir()) == ["long.mp4"]
+
+
+def test_power_and_exp(clip):
+    from spherewarp.maps.branched import Power
+    from spherewarp.render import warp
+
+    ok(None, "video", clip.name, "-o", "p.mp4", "power", "--n", "2")
+    src, out = frames(clip), frames("p.mp4")
+    assert len(out) == 12
+    assert psnr(warp(src[5], Power(2)), out[5]) >= 35
+    ok(None, "video", clip.name, "-o", "e.mp4", "exp", "--lam", "2", "--look-at", "180,0")
+    assert probe("e.mp4").frames == 12

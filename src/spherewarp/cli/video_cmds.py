@@ -15,6 +15,7 @@ from typing import Any
 import click
 
 from ._common import POINT, example
+from .branched_cmds import _LOOK_AT_HELP, EXP_SUPERSAMPLE, EXPONENT, POSITIVE, _with_view
 from .mobius_cmds import ANGLE, FACTOR, MATRIX
 
 __all__ = ["video"]
@@ -91,8 +92,16 @@ def _outputs(func: Any) -> Any:
     )(func)
 
 
-def _run(ctx: click.Context, forward: Any, output: Path | None, overwrite: bool) -> None:
-    """Render the parent's INPUT to its -o with the map that moves the content by ``forward``."""
+def _run(
+    ctx: click.Context,
+    forward: Any,
+    output: Path | None,
+    overwrite: bool,
+    pull: Any = None,
+    build: dict[str, Any] | None = None,
+) -> None:
+    """Render the parent's INPUT to its -o with the map that moves the content by ``forward``
+    (or pulls it back by ``pull``; ``build``: WarpMap.build's options)."""
     from ..io.video import VIDEO_EXTENSIONS, render_video
     from ._files import job
 
@@ -111,13 +120,14 @@ def _run(ctx: click.Context, forward: Any, output: Path | None, overwrite: bool)
             f"cannot write '{o['output']}': unknown video extension "
             f"{o['output'].suffix or '(none)'!r}; use one of {', '.join(VIDEO_EXTENSIONS)} with -o"
         )
-    inverse = forward.inverse()
+    inverse = forward.inverse() if pull is None else pull
+    build = build or {}
     bar = _Bar(enabled=not o["quiet"] and sys.stderr.isatty())
     try:
         render_video(
             o["input"],
             o["output"],
-            lambda t: (inverse, {}),
+            lambda t: (inverse, build),
             codec=o["codec"],
             crf=o["crf"],
             preset=o["preset"],
@@ -209,3 +219,32 @@ def video_mobius(
     except InvalidValueError as exc:
         raise InvalidValueError(f"--matrix: {exc.cli_message}") from None
     _run(ctx, forward, output_, overwrite_)
+
+
+@video.command("power")
+@click.option(
+    "--n", "exponent", type=EXPONENT, default="2", show_default=True, help="The exponent."
+)
+@click.option("--look-at", type=POINT, default=None, help=_LOOK_AT_HELP)
+@_outputs
+@click.pass_context
+def video_power(
+    ctx: click.Context, exponent: float, look_at: Any, output_: Any, overwrite_: bool
+) -> None:
+    """Pull back by z**n, as the power command does (default branch points)."""
+    from ..maps.branched import Power
+
+    _run(ctx, None, output_, overwrite_, pull=_with_view(Power(exponent), look_at))
+
+
+@video.command("exp")
+@click.option("--lam", type=POSITIVE, default=4.0, show_default=True, help="Scale lambda.")
+@click.option("--look-at", type=POINT, default=None, help=_LOOK_AT_HELP)
+@_outputs
+@click.pass_context
+def video_exp(ctx: click.Context, lam: float, look_at: Any, output_: Any, overwrite_: bool) -> None:
+    """Pull back by the exp variant, as the exp command does (supersampled 3x3)."""
+    from ..maps.branched import ExpMap
+
+    pull = _with_view(ExpMap(lam), look_at)
+    _run(ctx, None, output_, overwrite_, pull=pull, build={"supersample": EXP_SUPERSAMPLE})
