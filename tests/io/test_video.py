@@ -190,3 +190,15 @@ def test_subtitles_copied_or_dropped_with_a_warning(tmp_path, container, codec):
             "stream #2 (subtitle, srt) is dropped: an MP4/MOV file cannot hold subtitle in srt"
         ]
     assert audio_packets(out) == audio_packets(src)
+
+
+def test_stereo_input_needs_force(tmp_path):
+    from spherewarp.io.spherical import Spherical, write_spherical
+
+    clip = make_clip(tmp_path / "tb.mp4", frames=2, audio=False)
+    write_spherical(clip, Spherical(stereo="top-bottom"))
+    with pytest.raises(InvalidValueError, match="stereoscopic.*--force"):
+        render_video(clip, tmp_path / "o.mp4", lambda t: (ZOOM, {}))
+    assert not (tmp_path / "o.mp4").exists()
+    render_video(clip, tmp_path / "o.mp4", lambda t: (ZOOM, {}), force=True)
+    assert probe(tmp_path / "o.mp4").spherical.stereo == "mono"

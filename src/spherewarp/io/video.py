@@ -353,6 +353,11 @@ def render_video(
             f"'{input}' is {info.width}x{info.height}, not 2:1 (equirectangular); "
             "pass --force to warp it anyway",
         )
+    if info.spherical is not None and info.spherical.stereo != "mono" and not force:
+        raise InvalidValueError(
+            f"'{input}' is stereoscopic ({info.spherical.stereo}): one map for the whole frame "
+            "would mix the two eyes; pass --force to warp it anyway (the output is marked mono)"
+        )
     enc = _encoder(codec)
     out_pix = _pick_pix_fmt(enc, info.pix_fmt, pix_fmt)
     high = _depth(out_pix) > 8
