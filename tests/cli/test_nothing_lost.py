@@ -47,6 +47,7 @@ CASES: dict[str, tuple[list[str], list[str]]] = {
     "project": (["project", "{a}", "--to", "little-planet"], ["a"]),
     "project-from": (["project", "{a}", "--from", "cubemap-6x1"], ["a"]),
     "render": (["render", "{r}", "{a}"], ["a", "r"]),
+    "video": (["video", "{a}", "zoom", "--at", "0,0", "--factor", "2"], ["a"]),
 }
 
 

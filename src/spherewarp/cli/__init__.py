@@ -48,6 +48,7 @@ COMMANDS: dict[str, str] = {
     "map": "branched_cmds:map_cmd",
     "splitscreen": "branched_cmds:splitscreen",
     "project": "views_cmds:project",
+    "video": "video_cmds:video",
 }
 
 

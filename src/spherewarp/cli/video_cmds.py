@@ -1,0 +1,250 @@
+"""``spherewarp video IN -o OUT EFFECT [effect options]``: warp every frame of a 360° video.
+
+The effect is a subcommand with the options of the still command of the same
+name (``rotate``, ``zoom``, ``mobius``); its map does not change over time, so
+it is planned once and reused for every frame. See :mod:`spherewarp.io.video`
+for what is kept (timing, audio, spherical metadata).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Any
+
+import click
+
+from ._common import POINT, example
+from .branched_cmds import _LOOK_AT_HELP, EXP_SUPERSAMPLE, EXPONENT, POSITIVE, _with_view
+from .mobius_cmds import ANGLE, FACTOR, MATRIX
+
+__all__ = ["video"]
+
+
+class _EffectGroup(click.Group):
+    """A group whose own options may follow INPUT: ``video IN -o OUT EFFECT ...`` (a plain group
+    stops reading its options at the first argument)."""
+
+    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
+        i = next((k for k, a in enumerate(args) if a in self.commands), len(args))
+        ctx.allow_interspersed_args = True
+        rest = click.Command.parse_args(self, ctx, args[:i]) + args[i:]
+        ctx.allow_interspersed_args = False
+        if "_protected_args" in vars(ctx):  # click >= 8.2
+            ctx._protected_args, ctx.args = rest[:1], rest[1:]
+        else:
+            ctx.protected_args, ctx.args = rest[:1], rest[1:]
+        return ctx.args
+
+
+@click.group(
+    cls=_EffectGroup,
+    epilog=example(
+        "spherewarp video tour.mp4 -o tour-zoomed.mp4 zoom --at 0,0 --factor 2",
+        "spherewarp video tour.mp4 -o tour-right.mp4 --codec libx265 --crf 22 rotate --yaw 90",
+    ),
+)
+@click.argument("input", type=click.Path(path_type=Path, dir_okay=False))
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(path_type=Path, dir_okay=False),
+    help="The video to write (.mp4, .mov or .m4v); may also follow the effect.",
+)
+@click.option(
+    "--codec",
+    default="libx264",
+    show_default=True,
+    help="The video encoder (libx264, libx265, or another this build offers).",
+)
+@click.option(
+    "--crf",
+    type=click.FloatRange(0, 63),
+    help="Constant rate factor: lower is better and bigger (default: 18 for x264, 20 for x265).",
+)
+@click.option("--preset", help="The encoder's speed preset (x264/x265: ultrafast ... veryslow).")
+@click.option(
+    "--pix-fmt",
+    help="The encoded pixel format (default: the input's when the encoder takes it, "
+    "so a 10-bit input stays 10-bit; else yuv420p).",
+)
+@click.option("--force", is_flag=True, help="Warp a video whose frame is not 2:1.")
+@click.option("--overwrite", is_flag=True, help="Replace an existing output.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
+@click.pass_context
+def video(ctx: click.Context, input: Path, output: Path, **options: Any) -> None:
+    """Apply an effect to every frame of a 360° video.
+
+    Decodes and encodes with FFmpeg's libraries (PyAV). Each frame keeps its
+    time (frame rate, frame count and duration are kept, variable frame rates
+    too), audio is copied as it is, and the output carries the 360° metadata
+    (Spherical Video V1 and V2) that YouTube and players look for. An
+    interrupted render leaves no file behind.
+    """
+    ctx.obj = {"input": input, "output": output, **options}
+
+
+def _outputs(func: Any) -> Any:
+    """-o and --overwrite after the effect too (``video IN zoom ... -o OUT``)."""
+    func = click.option("--overwrite", "overwrite_", is_flag=True, hidden=True)(func)
+    return click.option(
+        "-o", "--output", "output_", type=click.Path(path_type=Path, dir_okay=False), hidden=True
+    )(func)
+
+
+def _run(
+    ctx: click.Context,
+    forward: Any,
+    output: Path | None,
+    overwrite: bool,
+    pull: Any = None,
+    build: dict[str, Any] | None = None,
+) -> None:
+    """Render the parent's INPUT to its -o with the map that moves the content by ``forward``
+    (or pulls it back by ``pull``; ``build``: WarpMap.build's options)."""
+    from ..io.video import VIDEO_EXTENSIONS, render_video
+    from ._files import job
+
+    o = ctx.obj
+    if output is not None:
+        o["output"] = output
+    o["overwrite"] = o["overwrite"] or overwrite
+    if o["output"] is None:
+        raise click.UsageError("give the video to write with -o OUT.mp4")
+    job().reads(o["input"], "input")
+    job().writes(o["output"], "-o")
+    if o["output"].suffix.lower() not in VIDEO_EXTENSIONS:
+        from ..errors import ImageFormatError
+
+        raise ImageFormatError(
+            f"cannot write '{o['output']}': unknown video extension "
+            f"{o['output'].suffix or '(none)'!r}; use one of {', '.join(VIDEO_EXTENSIONS)} with -o"
+        )
+    inverse = forward.inverse() if pull is None else pull
+    build = build or {}
+    bar = _Bar(enabled=not o["quiet"] and sys.stderr.isatty())
+    try:
+        render_video(
+            o["input"],
+            o["output"],
+            lambda t: (inverse, build),
+            codec=o["codec"],
+            crf=o["crf"],
+            preset=o["preset"],
+            pix_fmt=o["pix_fmt"],
+            overwrite=o["overwrite"],
+            force=o["force"],
+            progress=bar,
+        )
+    finally:
+        bar.close()
+
+
+class _Bar:
+    """Frames done, frames a second and the time left, on a terminal."""
+
+    def __init__(self, enabled: bool) -> None:
+        self.enabled = enabled
+        self._bar: Any = None
+
+    def __call__(self, done: int, total: int) -> None:
+        if not self.enabled:
+            return
+        if self._bar is None:
+            from tqdm import tqdm
+
+            self._bar = tqdm(total=total or None, unit="frame", file=sys.stderr, leave=False)
+        if total and self._bar.total != total:
+            self._bar.total = total
+        self._bar.update(done - self._bar.n)
+
+    def close(self) -> None:
+        if self._bar is not None:
+            self._bar.close()
+            self._bar = None
+
+
+@video.command("rotate")
+@click.option("--yaw", type=ANGLE, default=0.0, help="Turn the view right by DEG.")
+@click.option("--pitch", type=ANGLE, default=0.0, help="Turn the view up by DEG.")
+@click.option("--roll", type=ANGLE, default=0.0, help="Roll the view clockwise by DEG.")
+@_outputs
+@click.pass_context
+def video_rotate(
+    ctx: click.Context, yaw: float, pitch: float, roll: float, output_: Any, overwrite_: bool
+) -> None:
+    """Turn the view, as the rotate command and ffmpeg's v360 filter do."""
+    from ..maps import Mobius
+
+    _run(ctx, Mobius.from_yaw_pitch_roll(yaw, pitch, roll).inverse(), output_, overwrite_)
+
+
+@video.command("zoom")
+@click.option("--at", type=POINT, required=True, help="The point to zoom toward, LON,LAT.")
+@click.option("--factor", type=FACTOR, required=True, help="Magnification at the point.")
+@click.option("--center", is_flag=True, help="Also turn the zoom point to the image centre.")
+@_outputs
+@click.pass_context
+def video_zoom(
+    ctx: click.Context,
+    at: tuple[float, float],
+    factor: float,
+    center: bool,
+    output_: Any,
+    overwrite_: bool,
+) -> None:
+    """Zoom toward a point, as the zoom command does."""
+    from ..maps import Mobius
+
+    forward = Mobius.zoom(at, factor)
+    if center:
+        forward = Mobius.rotation_to(at, (0.0, 0.0)) @ forward
+    _run(ctx, forward, output_, overwrite_)
+
+
+@video.command("mobius")
+@click.option("--matrix", type=MATRIX, required=True, help="Entries a,b,c,d (as `mobius`).")
+@_outputs
+@click.pass_context
+def video_mobius(
+    ctx: click.Context, matrix: tuple[complex, ...], output_: Any, overwrite_: bool
+) -> None:
+    """Push the content forward by z -> (az+b)/(cz+d), as the mobius command does."""
+    from ..errors import InvalidValueError
+    from ..maps import Mobius
+
+    a, b, c, d = matrix
+    try:
+        forward = Mobius([[a, b], [c, d]])
+    except InvalidValueError as exc:
+        raise InvalidValueError(f"--matrix: {exc.cli_message}") from None
+    _run(ctx, forward, output_, overwrite_)
+
+
+@video.command("power")
+@click.option(
+    "--n", "exponent", type=EXPONENT, default="2", show_default=True, help="The exponent."
+)
+@click.option("--look-at", type=POINT, default=None, help=_LOOK_AT_HELP)
+@_outputs
+@click.pass_context
+def video_power(
+    ctx: click.Context, exponent: float, look_at: Any, output_: Any, overwrite_: bool
+) -> None:
+    """Pull back by z**n, as the power command does (default branch points)."""
+    from ..maps.branched import Power
+
+    _run(ctx, None, output_, overwrite_, pull=_with_view(Power(exponent), look_at))
+
+
+@video.command("exp")
+@click.option("--lam", type=POSITIVE, default=4.0, show_default=True, help="Scale lambda.")
+@click.option("--look-at", type=POINT, default=None, help=_LOOK_AT_HELP)
+@_outputs
+@click.pass_context
+def video_exp(ctx: click.Context, lam: float, look_at: Any, output_: Any, overwrite_: bool) -> None:
+    """Pull back by the exp variant, as the exp command does (supersampled 3x3)."""
+    from ..maps.branched import ExpMap
+
+    pull = _with_view(ExpMap(lam), look_at)
+    _run(ctx, None, output_, overwrite_, pull=pull, build={"supersample": EXP_SUPERSAMPLE})

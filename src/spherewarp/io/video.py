@@ -1,0 +1,513 @@
+"""360° video: decode, warp every frame, encode, with PyAV (FFmpeg's libraries).
+
+:func:`render_video` reads a video, pulls each frame back through the map that
+``frame_map(t)`` gives for the frame's presentation time ``t`` (seconds), and
+writes an MP4/MOV file:
+
+* the video is re-encoded (``codec``, ``crf``, ``preset``, ``pix_fmt``); each
+  frame keeps its presentation time, so the frame rate, time base, frame count
+  and duration are kept, variable frame rates too; a 10-bit input stays 10-bit
+  when the codec takes it;
+* audio packets are copied as they are (no re-encoding); subtitle and data
+  streams are copied where the container takes them and dropped with a warning
+  otherwise;
+* equirectangular spherical metadata (V1 and V2, :mod:`spherewarp.io.spherical`)
+  is written on the output unless ``spherical=False``;
+* a map that ``frame_map`` returns again (the same object) is planned once
+  (:class:`~spherewarp.render.WarpMap`) and reused;
+* decoding, warping and encoding run in three threads joined by queues of a
+  few frames, so memory stays bounded whatever the length;
+* the output is written atomically (:func:`spherewarp.io.atomic.atomic_file`):
+  an error or an interrupt leaves no file behind.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import queue
+import sys
+import threading
+import warnings
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import ImageFormatError, InvalidValueError
+from ..maps.base import SphereMap
+from .atomic import atomic_file
+from .spherical import Spherical, read_spherical, write_spherical
+
+__all__ = [
+    "VideoInfo",
+    "probe",
+    "render_video",
+    "video_encoders",
+    "VIDEO_EXTENSIONS",
+]
+
+VIDEO_EXTENSIONS = (".mp4", ".mov", ".m4v")
+_QUEUE = 4  # frames in flight between two stages
+_DEFAULT_CRF = {"libx264": 18, "libx265": 20}
+_HIGH_DEPTH_RGB = "rgb48le"
+#: codecs copied into the output as they are (the MP4/MOV muxers take them); others are dropped
+_COPYABLE = {
+    "audio": ("aac", "mp3", "ac3", "eac3", "opus", "flac", "alac", "pcm_s16le", "pcm_s24le"),
+    "subtitle": ("mov_text",),
+}
+
+FrameMap = Callable[[float], tuple[SphereMap, dict[str, Any]]]
+
+
+@dataclass
+class VideoInfo:
+    """What :func:`probe` finds in a video file.
+
+    Attributes
+    ----------
+    width, height : int
+    frames : int
+        The frame count the container records (0 when unknown).
+    rate : Fraction or None
+        The average frame rate.
+    time_base : Fraction
+        The video stream's time base.
+    duration : float or None
+        Seconds.
+    pix_fmt : str
+        The decoded pixel format (``yuv420p``, ``yuv420p10le``...).
+    codec : str
+    bit_depth : int
+        8, or more for a high bit depth input.
+    spherical : Spherical or None
+        The input's spherical metadata (MP4/MOV).
+    """
+
+    width: int
+    height: int
+    frames: int
+    rate: Fraction | None
+    time_base: Fraction
+    duration: float | None
+    pix_fmt: str
+    codec: str
+    bit_depth: int
+    spherical: Spherical | None
+
+
+def _open(path: Path) -> Any:
+    import av
+
+    if not path.is_file():
+        raise ImageFormatError(f"cannot read '{path}': no such file")
+    try:
+        return av.open(str(path))
+    except av.error.FFmpegError as exc:
+        raise ImageFormatError(f"cannot read '{path}': not a video file ({exc.strerror})") from None
+
+
+def _video_stream(container: Any, path: Path) -> Any:
+    streams = container.streams.video
+    if not streams:
+        raise ImageFormatError(f"cannot read '{path}': it has no video stream")
+    return streams[0]
+
+
+def _depth(pix_fmt: str) -> int:
+    import av
+
+    try:
+        fmt = av.VideoFormat(pix_fmt)
+    except (ValueError, av.error.FFmpegError):
+        return 8
+    return max((c.bits for c in fmt.components), default=8)
+
+
+def probe(path: str | os.PathLike[str]) -> VideoInfo:
+    """Describe the first video stream of ``path``.
+
+    Raises
+    ------
+    ImageFormatError
+        When ``path`` is not a video file or has no video stream.
+    """
+    path = Path(path)
+    with _open(path) as c:
+        s = _video_stream(c, path)
+        cc = s.codec_context
+        pix = cc.pix_fmt or "yuv420p"
+        duration = None
+        if s.duration is not None:
+            duration = float(s.duration * s.time_base)
+        elif c.duration is not None:
+            duration = c.duration / 1_000_000
+        try:
+            sph = read_spherical(path)
+        except ImageFormatError:
+            sph = None
+        return VideoInfo(
+            width=cc.width,
+            height=cc.height,
+            frames=int(s.frames or 0),
+            rate=s.average_rate,
+            time_base=s.time_base,
+            duration=duration,
+            pix_fmt=pix,
+            codec=cc.name,
+            bit_depth=_depth(pix),
+            spherical=sph,
+        )
+
+
+def video_encoders() -> list[str]:
+    """The names of the video encoders this PyAV build offers.
+
+    Examples
+    --------
+    >>> "libx264" in video_encoders()
+    True
+    """
+    import av
+
+    names = []
+    for name in sorted(av.codecs_available):
+        try:
+            codec = av.Codec(name, "w")
+        except Exception:  # noqa: BLE001 - not an encoder
+            continue
+        if codec.type == "video":
+            names.append(name)
+    return names
+
+
+def _encoder(codec: str) -> Any:
+    import av
+
+    try:
+        enc = av.Codec(codec, "w")
+    except Exception:  # noqa: BLE001 - av raises several kinds for an unknown name
+        enc = None
+    if enc is None or enc.type != "video":
+        raise InvalidValueError(
+            f"--codec {codec!r}: this build has no such video encoder; "
+            f"use one of {', '.join(video_encoders())}"
+        )
+    return enc
+
+
+def _pick_pix_fmt(enc: Any, in_pix: str, wanted: str | None) -> str:
+    offered = [f.name for f in (enc.video_formats or [])]
+    if wanted is not None:
+        if offered and wanted not in offered:
+            raise InvalidValueError(
+                f"--pix-fmt {wanted!r}: {enc.name} does not take it; "
+                f"use one of {', '.join(offered)}"
+            )
+        return wanted
+    if not offered:
+        return in_pix
+    if in_pix in offered:
+        return in_pix
+    if _depth(in_pix) > 8:
+        for f in ("yuv420p10le", "yuv422p10le", "yuv444p10le", "p010le"):
+            if f in offered:
+                return f
+    return "yuv420p" if "yuv420p" in offered else offered[0]
+
+
+@contextlib.contextmanager
+def _quiet_stderr() -> Iterator[None]:
+    """Silence file descriptor 2 (libx264 prints a bad preset there itself, past FFmpeg's log)."""
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+    except (OSError, ValueError):
+        yield
+        return
+    try:
+        with open(os.devnull, "wb") as null:
+            os.dup2(null.fileno(), 2)
+            yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+
+
+def _check_encoder(enc: Any, pix: str, options: dict[str, str], info: VideoInfo) -> None:
+    """Open the encoder once with its options, so a bad preset fails before anything is written."""
+    import av
+
+    cc = av.CodecContext.create(enc.name, "w")
+    cc.width, cc.height, cc.pix_fmt = info.width, info.height, pix
+    cc.time_base = info.time_base
+    cc.framerate = info.rate or Fraction(24)
+    cc.options = dict(options)
+    level = av.logging.get_level()
+    av.logging.set_level(av.logging.ERROR)  # PyAV's handler, so that Capture sees the messages
+    try:
+        with av.logging.Capture() as logs, _quiet_stderr():
+            cc.open()
+    except av.error.FFmpegError as exc:
+        said = "; ".join(str(m[2]).strip() for m in logs if m[0] <= av.logging.ERROR)
+        raise InvalidValueError(
+            f"{enc.name} refused its options ({said or exc.strerror}); "
+            "check --preset, --crf and --pix-fmt"
+        ) from None
+    finally:
+        av.logging.set_level(level)
+
+
+class _Stop(Exception):
+    """Another stage failed or was stopped."""
+
+
+def _put(q: queue.Queue, item: Any, stop: threading.Event) -> None:
+    while True:
+        if stop.is_set():
+            raise _Stop
+        try:
+            q.put(item, timeout=0.1)
+            return
+        except queue.Full:
+            continue
+
+
+def _get(q: queue.Queue, stop: threading.Event) -> Any:
+    while True:
+        if stop.is_set():
+            raise _Stop
+        try:
+            return q.get(timeout=0.1)
+        except queue.Empty:
+            continue
+
+
+_END = object()
+
+
+def _check_output(output: Path) -> None:
+    if output.suffix.lower() not in VIDEO_EXTENSIONS:
+        raise ImageFormatError(
+            f"cannot write '{output}': unknown video extension {output.suffix or '(none)'!r}; "
+            f"use one of {', '.join(VIDEO_EXTENSIONS)}"
+        )
+
+
+def render_video(
+    input: str | os.PathLike[str],
+    output: str | os.PathLike[str],
+    frame_map: FrameMap,
+    *,
+    codec: str = "libx264",
+    crf: float | None = None,
+    preset: str | None = None,
+    pix_fmt: str | None = None,
+    overwrite: bool = False,
+    force: bool = False,
+    spherical: bool = True,
+    progress: Callable[[int, int], None] | None = None,
+) -> VideoInfo:
+    """Warp every frame of ``input`` and write ``output`` (see the module documentation).
+
+    Parameters
+    ----------
+    input, output : path
+        The video to read; the MP4/MOV file to write (``.mp4``, ``.mov``, ``.m4v``).
+    frame_map : callable
+        ``frame_map(t) -> (inverse_map, options)``: the map from output points
+        to input points for the frame shown at ``t`` seconds, and the keyword
+        arguments of :meth:`~spherewarp.render.WarpMap.build` (``interp``,
+        ``antialias``...). Returning the same map object again reuses its plan.
+    codec, crf, preset, pix_fmt
+        The encoder and its options; default ``libx264``, CRF 18 (x265: 20),
+        the encoder's preset, and the input's pixel format when the encoder
+        takes it (a 10-bit input stays 10-bit), else ``yuv420p``.
+    overwrite : bool
+        Replace an existing ``output``.
+    force : bool
+        Accept a frame that is not 2:1.
+    spherical : bool
+        Write equirectangular spherical metadata.
+    progress : callable, optional
+        ``progress(done, total)`` after each frame (``total`` 0 when unknown).
+
+    Returns
+    -------
+    VideoInfo
+        The input's description.
+
+    Raises
+    ------
+    ImageFormatError, InvalidValueError, OutputExistsError
+        For a bad input, output or option; nothing is written then.
+    """
+    input, output = Path(input), Path(output)
+    _check_output(output)
+    info = probe(input)
+    if info.width != 2 * info.height and not force:
+        raise InvalidValueError(
+            f"'{input}' is {info.width}x{info.height}, not 2:1 (equirectangular); "
+            "pass --force to warp it anyway",
+        )
+    if info.spherical is not None and info.spherical.stereo != "mono" and not force:
+        raise InvalidValueError(
+            f"'{input}' is stereoscopic ({info.spherical.stereo}): one map for the whole frame "
+            "would mix the two eyes; pass --force to warp it anyway (the output is marked mono)"
+        )
+    enc = _encoder(codec)
+    out_pix = _pick_pix_fmt(enc, info.pix_fmt, pix_fmt)
+    high = _depth(out_pix) > 8
+    rgb = _HIGH_DEPTH_RGB if high else "rgb24"
+    options: dict[str, str] = {}
+    crf = _DEFAULT_CRF.get(enc.name) if crf is None else crf
+    if crf is not None:
+        options["crf"] = f"{crf:g}"
+    if preset is not None:
+        options["preset"] = preset
+    if enc.name == "libx265":
+        options["x265-params"] = "log-level=error"
+
+    _check_encoder(enc, out_pix, options, info)
+    import av
+
+    with atomic_file(output, overwrite=overwrite) as tmp:
+        src = _open(input)
+        try:
+            dst = av.open(str(tmp), "w", format="mov" if output.suffix.lower() == ".mov" else "mp4")
+            try:
+                _transcode(
+                    src, dst, info, enc.name, out_pix, rgb, options, frame_map, progress, force
+                )
+            finally:
+                dst.close()
+        finally:
+            src.close()
+        if spherical:
+            write_spherical(tmp, Spherical())
+        else:
+            write_spherical(tmp, None)
+    return info
+
+
+def _transcode(
+    src: Any,
+    dst: Any,
+    info: VideoInfo,
+    codec: str,
+    out_pix: str,
+    rgb: str,
+    options: dict[str, str],
+    frame_map: FrameMap,
+    progress: Callable[[int, int], None] | None,
+    force: bool,
+) -> None:
+    import av
+
+    from ..render import WarpMap
+
+    vin = src.streams.video[0]
+    vin.thread_type = "AUTO"
+    rate = vin.average_rate or vin.guessed_rate or Fraction(24)
+    vout = dst.add_stream(codec, rate=rate, options=options)
+    vout.width, vout.height = info.width, info.height
+    vout.pix_fmt = out_pix
+    vout.time_base = vin.time_base
+    vout.codec_context.time_base = vin.time_base
+    vout.thread_type = "AUTO"
+    copies: dict[int, Any] = {}
+    for s in src.streams:
+        if s is vin:
+            continue
+        name = s.codec_context.name if s.codec_context is not None else "unknown"
+        if s.type == "video":
+            why = "only the first video stream is warped"
+        elif name not in _COPYABLE.get(s.type, ()):
+            why = f"an MP4/MOV file cannot hold {s.type} in {name}"
+        else:
+            copies[s.index] = dst.add_stream_from_template(s)
+            continue
+        warnings.warn(f"stream #{s.index} ({s.type}, {name}) is dropped: {why}", stacklevel=3)
+    total = info.frames
+    stop = threading.Event()
+    decoded: queue.Queue = queue.Queue(_QUEUE)
+    warped: queue.Queue = queue.Queue(_QUEUE)
+    errors: list[BaseException] = []
+
+    def decode() -> None:
+        try:
+            wanted = [vin, *(s for s in src.streams if s.index in copies)]
+            for packet in src.demux(wanted):
+                if packet.stream is vin:
+                    for frame in packet.decode():
+                        _put(decoded, frame, stop)
+                elif packet.dts is not None:
+                    _put(decoded, packet, stop)
+            _put(decoded, _END, stop)
+        except _Stop:
+            pass
+        except BaseException as exc:  # noqa: BLE001 - carried to the main thread
+            errors.append(exc)
+            stop.set()
+
+    def encode() -> None:
+        try:
+            while True:
+                item = _get(warped, stop)
+                if item is _END:
+                    break
+                if isinstance(item, av.Packet):
+                    item.stream = copies[item.stream_index]
+                    dst.mux(item)
+                else:
+                    dst.mux(vout.encode(item))
+            dst.mux(vout.encode(None))
+        except _Stop:
+            pass
+        except BaseException as exc:  # noqa: BLE001 - carried to the main thread
+            errors.append(exc)
+            stop.set()
+
+    threads = [threading.Thread(target=f, daemon=True) for f in (decode, encode)]
+    for t in threads:
+        t.start()
+    plan: tuple[Any, Any] | None = None
+    done = 0
+    try:
+        while True:
+            item = _get(decoded, stop)
+            if item is _END or isinstance(item, av.Packet):
+                _put(warped, item, stop)
+                if item is _END:
+                    break
+                continue
+            t = float(item.pts * item.time_base) if item.pts is not None else done / rate
+            inverse, opts = frame_map(t)
+            if plan is None or plan[0] is not inverse:
+                plan = (
+                    inverse,
+                    WarpMap.build(inverse, (info.height, info.width), **{"force": force, **opts}),
+                )
+            pixels = item.to_ndarray(format=rgb)
+            out = plan[1].apply(pixels)
+            frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(out), format=rgb)
+            frame.pts, frame.time_base = item.pts, item.time_base
+            _put(warped, frame, stop)
+            done += 1
+            if progress is not None:
+                progress(done, max(total, done))
+        threads[1].join()
+    except _Stop:
+        pass
+    finally:
+        if errors or threads[1].is_alive():
+            stop.set()
+        for th in threads:
+            th.join()
+    if errors:
+        raise errors[0]
+    if stop.is_set() and not errors:
+        raise RuntimeError("the video pipeline stopped early")

@@ -1,0 +1,140 @@
+"""``spherewarp video``: the effects on a short clip, and one line for each bad input."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+from _cli import ok, run
+
+from spherewarp.io.video import probe
+from videoclip import make_clip
+
+av = pytest.importorskip("av")
+
+
+@pytest.fixture
+def clip(workdir):
+    return make_clip(workdir / "in.mp4", frames=12)
+
+
+def frames(path):
+    with av.open(str(path)) as c:
+        return [f.to_ndarray(format="rgb24") for f in c.decode(video=0)]
+
+
+def psnr(a, b):
+    return 10 * np.log10(255.0**2 / np.mean((a.astype(np.float64) - b) ** 2))
+
+
+def test_rotate_turns_every_frame(clip):
+    ok(None, "video", clip.name, "-o", "out.mp4", "--quiet", "rotate", "--yaw", "90")
+    src, out = frames(clip), frames("out.mp4")
+    assert len(out) == len(src) == 12
+    for a, b in zip(src, out, strict=True):  # yaw 90: a quarter turn of the columns
+        assert psnr(np.roll(a, -a.shape[1] // 4, axis=1), b) >= 35
+    info = probe("out.mp4")
+    assert info.spherical is not None and info.spherical.projection == "equirectangular"
+    assert info.frames == 12 and info.rate == 24
+
+
+@pytest.mark.parametrize(
+    "effect",
+    [
+        ["zoom", "--at", "0,0", "--factor", "2", "--center"],
+        ["mobius", "--matrix", "1,0.5,0,1"],
+    ],
+)
+def test_effects_and_options_after_the_effect(clip, effect):
+    # -o after the effect, then the codec options between INPUT and the effect
+    ok(None, "video", clip.name, *effect, "-o", "o.mp4")
+    assert probe("o.mp4").frames == 12
+    ok(
+        None,
+        "video",
+        clip.name,
+        "--crf",
+        "30",
+        "--preset",
+        "ultrafast",
+        "-o",
+        "o.mp4",
+        "--overwrite",
+        *effect,
+    )
+    assert probe("o.mp4").frames == 12
+
+
+def one_line(err):
+    return err.startswith("spherewarp: error: ") and err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_bad_inputs_one_line_nothing_written(workdir, clip):
+    (workdir / "notes.mp4").write_text("hello")
+    square = make_clip(workdir / "square.mp4", frames=2, audio=False, size=(64, 64))
+    cases = {
+        "not a video": ["video", "notes.mp4", "-o", "o.mp4", "rotate", "--yaw", "1"],
+        "no such file": ["video", "missing.mp4", "-o", "o.mp4", "rotate", "--yaw", "1"],
+        "libx264": ["video", clip.name, "-o", "o.mp4", "--codec", "nope", "rotate"],
+        "--force": ["video", square.name, "-o", "o.mp4", "rotate", "--yaw", "1"],
+        "unknown video extension": ["video", clip.name, "-o", "o.png", "rotate"],
+        "-o": ["video", clip.name, "rotate", "--yaw", "1"],
+        "--preset": ["video", clip.name, "-o", "o.mp4", "--preset", "nope", "rotate"],
+    }
+    before = sorted(p.name for p in workdir.iterdir())
+    for needle, args in cases.items():
+        code, out, err = run(None, *args)
+        assert code == 2 and one_line(err) and needle in err, (args, err)
+    assert sorted(p.name for p in workdir.iterdir()) == before
+    ok(None, "video", square.name, "-o", "sq.mp4", "--force", "rotate", "--yaw", "1")
+    code, _, err = run(None, "video", square.name, "-o", "sq.mp4", "--force", "rotate")
+    assert code == 2 and one_line(err) and "--overwrite" in err
+
+
+@pytest.mark.skipif(os.name != "posix", reason="POSIX signals")
+def test_ctrl_c_leaves_no_file(workdir):
+    make_clip(workdir / "long.mp4", frames=72)
+    args = ["video", "long.mp4", "-o", "o.mp4", "--preset", "veryslow", "zoom", "--at", "0,0"]
+    for _ in range(3):
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "spherewarp", *args, "--factor", "2"],
+            cwd=workdir,
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        end = time.monotonic() + 60
+        while proc.poll() is None and time.monotonic() < end:
+            if any(".tmp" in p.name for p in workdir.iterdir()):
+                break
+            time.sleep(0.002)
+        time.sleep(0.2)  # frames in flight in every stage
+        if proc.poll() is None:
+            break
+        proc.communicate()
+        (workdir / "o.mp4").unlink()
+    else:
+        pytest.skip("the render keeps ending before the signal")
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert err.startswith("spherewarp: interrupted") and err.count("\n") == 1, err
+    assert sorted(p.name for p in workdir.iterdir()) == ["long.mp4"]
+
+
+def test_power_and_exp(clip):
+    from spherewarp.maps.branched import Power
+    from spherewarp.render import warp
+
+    ok(None, "video", clip.name, "-o", "p.mp4", "power", "--n", "2")
+    src, out = frames(clip), frames("p.mp4")
+    assert len(out) == 12
+    assert psnr(warp(src[5], Power(2)), out[5]) >= 35
+    ok(None, "video", clip.name, "-o", "e.mp4", "exp", "--lam", "2", "--look-at", "180,0")
+    assert probe("e.mp4").frames == 12

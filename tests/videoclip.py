@@ -1,0 +1,63 @@
+"""A short 360° test clip made with PyAV: the bundled panorama turning, with a sine tone."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+
+W, H = 256, 128
+RATE = 24
+SECONDS = 2
+
+
+def panorama() -> np.ndarray:
+    """The bundled interior panorama at W x H."""
+    from PIL import Image
+
+    from spherewarp.demo import sample_path
+
+    with Image.open(sample_path("interior.png")) as im:
+        return np.asarray(im.convert("RGB").resize((W, H), Image.LANCZOS))
+
+
+def frame(k: int) -> np.ndarray:
+    """Frame k: the panorama turned by 4 columns a frame about the vertical axis."""
+    return np.roll(panorama(), -4 * k, axis=1)
+
+
+def make_clip(
+    path: Path, *, frames: int = RATE * SECONDS, audio: bool = True, size=(W, H), pix_fmt="yuv420p"
+) -> Path:
+    """Write the clip (H.264 at CRF 10, AAC mono at 48 kHz) to ``path``; return ``path``."""
+    import av
+
+    w, h = size
+    base = panorama()
+    with av.open(str(path), "w") as c:
+        v = c.add_stream("libx264", rate=RATE, options={"crf": "10"})
+        v.width, v.height, v.pix_fmt = w, h, pix_fmt
+        a = None
+        if audio:
+            a = c.add_stream("aac", rate=48000)
+            a.layout = "mono"
+        for k in range(frames):
+            img = np.roll(base, -4 * k, axis=1)
+            if (w, h) != (W, H):
+                img = np.ascontiguousarray(np.resize(img, (h, w, 3)))
+            f = av.VideoFrame.from_ndarray(np.ascontiguousarray(img), format="rgb24")
+            c.mux(v.encode(f))
+        c.mux(v.encode(None))
+        if a is not None:
+            n = 48000 * frames // RATE
+            t = np.arange(n) / 48000
+            tone = (0.3 * np.sin(2 * np.pi * 440 * t)).astype(np.float32)[None, :]
+            for i in range(0, n, 1024):
+                af = av.AudioFrame.from_ndarray(tone[:, i : i + 1024], format="fltp", layout="mono")
+                af.sample_rate = 48000
+                af.pts = i
+                af.time_base = Fraction(1, 48000)
+                c.mux(a.encode(af))
+            c.mux(a.encode(None))
+    return path
