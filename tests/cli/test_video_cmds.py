@@ -138,3 +138,33 @@ def test_power_and_exp(clip):
     assert psnr(warp(src[5], Power(2)), out[5]) >= 35
     ok(None, "video", clip.name, "-o", "e.mp4", "exp", "--lam", "2", "--look-at", "180,0")
     assert probe("e.mp4").frames == 12
+
+
+def test_timed_recipe_is_evaluated_at_every_frame(clip, workdir):
+    """A yaw track from 0 to 90 degrees over the clip's 0.5 s: frame k turns by k/24 * 180."""
+    import json
+
+    recipe = {
+        "spherewarp": 1,
+        "duration": 0.5,
+        "steps": [{"rotate": {"yaw": {"keyframes": [[0, 0], [0.5, 90]]}}}],
+    }
+    (workdir / "spin.json").write_text(json.dumps(recipe))
+    ok(None, "video", clip.name, "-o", "out.mp4", "--quiet", "recipe", "spin.json")
+    src, out = frames(clip), frames("out.mp4")
+    assert len(out) == len(src) == 12
+    w = src[0].shape[1]
+    for k, (a, b) in enumerate(zip(src, out, strict=True)):
+        shift = round(k / 24 * 180 / 360 * w)  # whole columns: 128 px wide, 7.5 degrees a frame
+        assert psnr(np.roll(a, -shift, axis=1), b) >= 33, k
+
+
+def test_static_recipe_equals_the_effect(clip, workdir):
+    import json
+
+    step = {"zoom": {"at": [0, 0], "factor": 2}}
+    (workdir / "z.json").write_text(json.dumps({"spherewarp": 1, "steps": [step]}))
+    ok(None, "video", clip.name, "-o", "a.mp4", "--quiet", "recipe", "z.json")
+    ok(None, "video", clip.name, "-o", "b.mp4", "--quiet", "zoom", "--at", "0,0", "--factor", "2")
+    for a, b in zip(frames("a.mp4"), frames("b.mp4"), strict=True):
+        assert np.array_equal(a, b) or psnr(a, b) >= 45

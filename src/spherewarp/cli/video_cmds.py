@@ -15,7 +15,7 @@ from typing import Any
 import click
 
 from ._common import POINT, example
-from .branched_cmds import _LOOK_AT_HELP, EXP_SUPERSAMPLE, EXPONENT, POSITIVE, _with_view
+from .branched_cmds import _LOOK_AT_HELP, EXP_SUPERSAMPLE, EXPONENT, POSITIVE
 from .mobius_cmds import ANGLE, FACTOR, MATRIX
 
 __all__ = ["video"]
@@ -42,6 +42,7 @@ class _EffectGroup(click.Group):
     epilog=example(
         "spherewarp video tour.mp4 -o tour-zoomed.mp4 zoom --at 0,0 --factor 2",
         "spherewarp video tour.mp4 -o tour-right.mp4 --codec libx265 --crf 22 rotate --yaw 90",
+        "spherewarp video tour.mp4 -o flight.mp4 recipe flight.json",
     ),
 )
 @click.argument("input", type=click.Path(path_type=Path, dir_okay=False))
@@ -99,9 +100,11 @@ def _run(
     overwrite: bool,
     pull: Any = None,
     build: dict[str, Any] | None = None,
+    frame_map: Any = None,
 ) -> None:
     """Render the parent's INPUT to its -o with the map that moves the content by ``forward``
-    (or pulls it back by ``pull``; ``build``: WarpMap.build's options)."""
+    (or pulls it back by ``pull``; ``build``: WarpMap.build's options; or ``frame_map(t)``,
+    as :func:`spherewarp.io.video.render_video` takes it)."""
     from ..io.video import VIDEO_EXTENSIONS, render_video
     from ._files import job
 
@@ -120,14 +123,19 @@ def _run(
             f"cannot write '{o['output']}': unknown video extension "
             f"{o['output'].suffix or '(none)'!r}; use one of {', '.join(VIDEO_EXTENSIONS)} with -o"
         )
-    inverse = forward.inverse() if pull is None else pull
-    build = build or {}
+    if frame_map is None:
+        inverse = forward.inverse() if pull is None else pull
+        build = build or {}
+
+        def frame_map(t: float) -> tuple[Any, dict[str, Any]]:
+            return inverse, build
+
     bar = _Bar(enabled=not o["quiet"] and sys.stderr.isatty())
     try:
         render_video(
             o["input"],
             o["output"],
-            lambda t: (inverse, build),
+            frame_map,
             codec=o["codec"],
             crf=o["crf"],
             preset=o["preset"],
@@ -233,8 +241,9 @@ def video_power(
 ) -> None:
     """Pull back by z**n, as the power command does (default branch points)."""
     from ..maps.branched import Power
+    from ..recipe.effects import with_look_at
 
-    _run(ctx, None, output_, overwrite_, pull=_with_view(Power(exponent), look_at))
+    _run(ctx, None, output_, overwrite_, pull=with_look_at(Power(exponent), look_at))
 
 
 @video.command("exp")
@@ -245,6 +254,38 @@ def video_power(
 def video_exp(ctx: click.Context, lam: float, look_at: Any, output_: Any, overwrite_: bool) -> None:
     """Pull back by the exp variant, as the exp command does (supersampled 3x3)."""
     from ..maps.branched import ExpMap
+    from ..recipe.effects import with_look_at
 
-    pull = _with_view(ExpMap(lam), look_at)
+    pull = with_look_at(ExpMap(lam), look_at)
     _run(ctx, None, output_, overwrite_, pull=pull, build={"supersample": EXP_SUPERSAMPLE})
+
+
+@video.command("recipe")
+@click.argument("recipe", type=click.Path(dir_okay=False, path_type=Path), metavar="R.json")
+@_outputs
+@click.pass_context
+def video_recipe(ctx: click.Context, recipe: Path, output_: Any, overwrite_: bool) -> None:
+    """Apply a recipe (``--save-recipe``, see ``spherewarp render``): a timed one is evaluated
+    at every frame's presentation time (a loop wraps round its duration), a static one is
+    planned once for the whole video."""
+    from ..errors import InvalidValueError
+    from ..recipe import Recipe
+    from ._files import job
+
+    job().reads(recipe, "the recipe")
+    r = Recipe.load(recipe)
+    if r.at(0.0).view:
+        raise InvalidValueError(
+            f"{recipe}: a recipe's view (size, projection) is not supported for video yet; "
+            "remove its 'view' to render at the input's size"
+        )
+    keys = ("interp", "antialias", "supersample")
+    build = {k: v for k, v in r.at(0.0).warp_kwargs.items() if k in keys}
+    if build.get("supersample") == 1:
+        build.pop("supersample")
+    static = None if r.animated else r.map_at(0.0)
+
+    def frame_map(t: float) -> tuple[Any, dict[str, Any]]:
+        return (static if static is not None else r.map_at(t)), build
+
+    _run(ctx, None, output_, overwrite_, frame_map=frame_map)
