@@ -194,3 +194,156 @@ def test_rendered_image_is_invariant_under_each_generator():
         err = np.linalg.norm(moved - out, axis=-1)[far]
         assert far.mean() > 0.05
         assert np.quantile(err, 0.99) < 0.01
+
+
+# -- the exact disks of a mask (the paper's workflow) ---------------------------------------------
+def _mask():
+    """A 180 x 360 mask: a red rectangle (lon -20..20, lat -8..8) and a green square."""
+    m = np.zeros((180, 360, 3), np.uint8)
+    m[82:98, 160:200] = (255, 0, 0)
+    m[60:75, 60:75] = (0, 255, 0)  # lon -120..-105, lat 15..30
+    return m
+
+
+def _mask_map(regions=True):
+    from spherewarp.maps.schottky import MaskRegions, cap_from_mask
+
+    mask = _mask()
+    red, green = cap_from_mask(mask, (1, 0, 0)), cap_from_mask(mask, (0, 1, 0))
+    s = Schottky(
+        [(red, generator_between(red, Cap(170, 0, 15))), (green, Mobius.zoom((-112.5, 22.5), 50))]
+    )
+    if regions:
+        s = s.with_mask_regions(MaskRegions(mask, [(1, 0, 0), (0, 1, 0)], path="mask.png"))
+    return s, mask
+
+
+def _label(mask, v):
+    """Independent mask lookup: the colour of the pixel a unit vector falls in."""
+    lon = np.degrees(np.arctan2(v[1], v[0]))
+    lat = np.degrees(np.arcsin(np.clip(v[2], -1, 1)))
+    x = int(np.floor((lon + 180) / 360 * mask.shape[1])) % mask.shape[1]
+    y = min(max(int(np.floor((90 - lat) / 180 * mask.shape[0])), 0), mask.shape[0] - 1)
+    r, g, _ = mask[y, x]
+    return 0 if r > 128 else 1 if g > 128 else -1
+
+
+def _paper_reduction(s, mask, xyz, depth=60):
+    """The paper's routine read literally, one point at a time: while q is not in the black
+    region, if q is in D_X (X^-1(q) is not in D_x) replace it by X^-1(q), if q is in D_x
+    replace it by X(q)."""
+    mats = [np.asarray(m.matrix) for _, m in s.generators]
+    out = []
+    for v in xyz:
+        zw = coords.cp1_from_xyz(v)
+        z, w = complex(zw[0]), complex(zw[1])
+        for _ in range(depth):
+            p = coords.xyz_from_cp1(np.array([z, w]))
+            moved = False
+            for i, ((a, b), (c, d)) in enumerate(mats):
+                if _label(mask, p) == i:
+                    z, w = a * z + b * w, c * z + d * w
+                    moved = True
+                    break
+                zi, wi = d * z - b * w, -c * z + a * w  # X^-1 (det 1)
+                if _label(mask, coords.xyz_from_cp1(np.array([zi, wi]))) != i:
+                    z, w = zi, wi
+                    moved = True
+                    break
+            n = np.sqrt(abs(z) ** 2 + abs(w) ** 2)
+            z, w = z / n, w / n
+            if not moved:
+                break
+        out.append(coords.xyz_from_cp1(np.array([z, w])))
+    return np.array(out)
+
+
+def _mask_margin(mask, xyz):
+    """Points whose 8 neighbours at 0.3 degrees have their label (clear of region edges)."""
+    lab = np.array([_label(mask, v) for v in xyz])
+    ok = np.ones(len(xyz), bool)
+    for dl, dp in [(0.3, 0), (-0.3, 0), (0, 0.3), (0, -0.3)]:
+        ll = np.degrees(coords.lonlat_from_xyz(xyz)) + [dl, dp]
+        moved = coords.xyz_from_lonlat(np.radians(ll))
+        ok &= np.array([_label(mask, v) for v in moved]) == lab
+    return ok
+
+
+def test_mask_regions_match_the_papers_routine():
+    s, mask = _mask_map()
+    xyz = _points(1500, seed=4)
+    got = s.apply_xyz(xyz)
+    want = _paper_reduction(s, mask, xyz)
+    ok = _mask_margin(mask, xyz) & _mask_margin(mask, got)
+    assert ok.mean() > 0.9
+    assert np.abs(got - want)[ok].max() < 1e-8
+
+
+def test_mask_black_is_the_fundamental_region():
+    """A point of the round disk about the red rectangle but outside the rectangle (black in
+    the mask) is fixed with the exact disks, and moved with the round ones."""
+    s, mask = _mask_map()
+    r, _ = _mask_map(regions=False)
+    q = coords.xyz_from_lonlat(np.radians([[0.0, 15.0], [18.0, -12.0]]))  # black, in the cap
+    assert all(_label(mask, v) == -1 for v in q)
+    assert np.allclose(s.apply_xyz(q), q)
+    assert not np.allclose(r.apply_xyz(q), q)
+    assert fast_spec(s) is None and fast_spec(r) is not None  # exact disks: NumPy path
+
+
+def fast_spec(m):
+    from spherewarp.render import fast
+
+    return fast.kernel_spec(m)
+
+
+def test_mask_regions_are_invariant_under_each_generator():
+    s, mask = _mask_map()
+    xyz = _points(1500, seed=5)
+    for _, m in s.generators:
+        a = s.apply_xyz(xyz)
+        pb = s.pull(coords.cp1_from_xyz(m.apply_xyz(xyz)))
+        b = coords.xyz_from_cp1(pb.points)
+        ok = _mask_margin(mask, a) & _mask_margin(mask, b) & pb.valid
+        ok &= _mask_margin(mask, xyz) & _mask_margin(mask, m.apply_xyz(xyz))
+        assert ok.mean() > 0.8
+        assert np.abs(a - b)[ok].max() < 1e-8
+
+
+def test_mask_regions_round_trip_through_json(tmp_path, monkeypatch):
+    from spherewarp.io import write_image
+
+    monkeypatch.chdir(tmp_path)
+    s, mask = _mask_map()
+    write_image("mask.png", mask)
+    t = map_from_json(s.to_json())
+    assert t == s and t.regions is not None
+    assert '"mask"' in s.to_json()
+    xyz = _points(200)
+    assert np.allclose(t.apply_xyz(xyz), s.apply_xyz(xyz))
+
+
+def test_mask_region_errors():
+    from spherewarp.maps.schottky import MaskRegions, cap_from_mask
+
+    # a thin vertical bar: its round disk is mostly black, which X takes into the exact D_X
+    # (X^-1 of the bar is a small patch about X's fixed point, off the bar): D_X holds the bar
+    bar = np.zeros((180, 360, 3), np.uint8)
+    bar[70:110, 179:181] = (255, 0, 0)
+    cap = cap_from_mask(bar, (1, 0, 0))
+    s = Schottky([(cap, generator_between(cap, Cap(42, 0, 15)))])
+    with pytest.raises(InvalidValueError, match=r"D_x of generator 1 .* and D_X of generator 1"):
+        s.with_mask_regions(MaskRegions(bar, [(1, 0, 0)]))
+    mask = _mask()
+    red = cap_from_mask(mask, (1, 0, 0))
+    regions = MaskRegions(mask, [(1, 0, 0)])
+    near = Schottky([(red, generator_between(red, Cap(42, 0, 15)))])
+    with pytest.raises(InvalidValueError, match="one mask colour per generator"):
+        near.with_mask_regions(MaskRegions(mask, [(1, 0, 0), (0, 1, 0)]))
+    small = Schottky([(Cap(0, 0, 5), generator_between(Cap(0, 0, 5), Cap(170, 0, 15)))])
+    with pytest.raises(InvalidValueError, match="outside its round disk"):
+        small.with_mask_regions(regions)
+    with pytest.raises(InvalidValueError, match="within the tolerance"):
+        MaskRegions(mask, [(1, 0, 0), (0.9, 0, 0)])
+    with pytest.raises(InvalidValueError, match="no pixel of the colour"):
+        MaskRegions(mask, [(0, 0, 1)])

@@ -147,7 +147,7 @@ class SphereMap(ABC):
 
         A map that the fast renderer can evaluate inside its compiled kernel
         returns ``((kind, params), ...)`` in the order the stages are applied
-        (see :mod:`spherewarp.render.fast` for the kinds and how to add one).
+        (see :mod:`spherewarp.render.stages` for the kinds and how to add one).
         With None the renderer gets the map's points from :meth:`pull` and
         only samples them in compiled code.
         """

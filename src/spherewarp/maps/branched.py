@@ -351,7 +351,9 @@ class Power(_ChartedMap):
         """Integer exponents: ``chart``, ``("power", [n])``, ``chart^-1`` (compiled renderer)."""
         if not self._is_int:
             return None
-        core = (("power", np.array([self._t])),)
+        from ..render.stages import POWER
+
+        core = (("power", POWER.pack(m=self._t)),)
         if self._chart is None:
             return core
         return self._chart.kernel_stages() + core + self._chart.inverse().kernel_stages()
@@ -521,8 +523,10 @@ class ExpMap(_ChartedMap):
 
     def kernel_stages(self) -> tuple[tuple[str, NDArray[np.float64]], ...]:
         """``chart``, ``("exp", [lam, 2 sin^2(r/2), cap])``, ``chart^-1`` (compiled renderer)."""
+        from ..render.stages import EXP
+
         near = 2.0 * math.sin(ESSENTIAL_RADIUS / 2) ** 2
-        core = (("exp", np.array([self._lam, near, SCALE_CAP])),)
+        core = (("exp", EXP.pack(lam=self._lam, near=near, cap=SCALE_CAP)),)
         if self._chart is None:
             return core
         return self._chart.kernel_stages() + core + self._chart.inverse().kernel_stages()

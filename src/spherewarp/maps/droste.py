@@ -446,10 +446,14 @@ class Droste(SphereMap):
         """``chart``, ``("droste", ...)``, ``chart^-1`` (compiled renderer; one image only)."""
         if self._n_images != 1:
             return None
+        from ..render.stages import DROSTE
+
         c = self._pivot - self._phase * self._q
         b = self._beta
-        head = [self._rho.size, self._ell, b.real, b.imag, self._pivot, c.real, c.imag]
-        p = np.concatenate([head, [SCALE_CAP, abs(b)], self._rho])
+        p = DROSTE.pack(
+            m=self._rho.size, ell=self._ell, beta_re=b.real, beta_im=b.imag, pivot=self._pivot,
+            c_re=c.real, c_im=c.imag, cap=SCALE_CAP, beta_abs=abs(b), rho=self._rho,
+        )  # fmt: skip
         core = (("droste", p),)
         return self._chart.kernel_stages() + core + self._chart_inv.kernel_stages()
 

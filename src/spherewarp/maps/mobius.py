@@ -234,7 +234,14 @@ class Mobius(SphereMap):
 
     def kernel_stages(self) -> tuple[tuple[str, NDArray[np.float64]], ...]:
         """One ``"mobius"`` stage: ``a, b, c, d`` as 8 floats (re, im) for the compiled renderer."""
-        return (("mobius", self._m.view(np.float64).ravel().copy()),)
+        from ..render.stages import MOBIUS
+
+        (a, b), (c, d) = self._m
+        row = MOBIUS.pack(
+            a_re=a.real, a_im=a.imag, b_re=b.real, b_im=b.imag,
+            c_re=c.real, c_im=c.imag, d_re=d.real, d_im=d.imag,
+        )  # fmt: skip
+        return (("mobius", row),)
 
     def inverse(self) -> Mobius:
         """The inverse map.

@@ -246,8 +246,10 @@ class Rational(SphereMap):
 
     def kernel_stages(self) -> tuple[tuple[str, NDArray[np.float64]], ...]:
         """One ``"rational"`` stage: ``[d, N, D]`` (zero-padded, ``(re, im)`` pairs)."""
-        coefs = np.concatenate([self._pn, self._pd]).view(np.float64)
-        return (("rational", np.concatenate([[float(self._degree)], coefs])),)
+        from ..render.stages import RATIONAL
+
+        coefs = np.concatenate([self._pn, self._pd])
+        return (("rational", RATIONAL.pack(degree=self._degree, coefficients=coefs)),)
 
     def as_mobius(self) -> Any:
         if self._degree != 1:

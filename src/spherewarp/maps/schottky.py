@@ -26,6 +26,7 @@ array([[90.,  0.]])
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Sequence
 from typing import Any
@@ -39,11 +40,19 @@ from .base import PullBack, SphereMap, register_map
 from .droste import check_phase
 from .mobius import Mobius
 
-__all__ = ["Cap", "Schottky", "cap_from_mask", "cap_image", "generator_between"]
+__all__ = [
+    "Cap",
+    "MaskRegions",
+    "Schottky",
+    "cap_from_mask",
+    "cap_image",
+    "generator_between",
+]
 
 ComplexArray = NDArray[np.complex128]
 
-#: default output width the depth cap is chosen for (copies beyond it are below a pixel)
+#: default output width the depth cap is chosen for (copies beyond it are below a pixel), unless
+#: the map is sized for its output (:meth:`Schottky.for_output`; the CLI does)
 DEFAULT_WIDTH = 8192
 #: the most reduction steps allowed
 MAX_DEPTH = 10000
@@ -192,6 +201,22 @@ def generator_between(source: Cap, target: Cap, twist: float = 0.0) -> Mobius:
     return Mobius.zoom_between(p, q, factor)
 
 
+def _color_hits(mask: NDArray, color: tuple[float, float, float], tolerance: float) -> NDArray:
+    """The pixels of an equirectangular mask within ``tolerance`` of ``color`` (0..1 sRGB)."""
+    px = np.asarray(mask)
+    if px.ndim == 2:
+        px = px[..., None]
+    scale = 255.0 if px.dtype == np.uint8 else 65535.0 if px.dtype == np.uint16 else 1.0
+    rgb = px[..., :3].astype(np.float64) / scale
+    if rgb.shape[2] == 1:
+        rgb = np.repeat(rgb, 3, axis=2)
+    hit = np.all(np.abs(rgb - np.asarray(color, dtype=np.float64)) <= tolerance, axis=2)
+    if not hit.any():
+        shown = "#" + "".join(f"{round(255 * v):02x}" for v in color)
+        raise InvalidValueError(f"the mask has no pixel of the colour {shown}")
+    return hit
+
+
 def cap_from_mask(
     mask: NDArray, color: tuple[float, float, float], *, tolerance: float = 0.25
 ) -> Cap:
@@ -215,17 +240,7 @@ def cap_from_mask(
     >>> round(c.lon, 6) + 0.0, round(c.lat, 6) + 0.0, 13 < c.radius < 15
     (0.0, 0.0, True)
     """
-    px = np.asarray(mask)
-    if px.ndim == 2:
-        px = px[..., None]
-    scale = 255.0 if px.dtype == np.uint8 else 65535.0 if px.dtype == np.uint16 else 1.0
-    rgb = px[..., :3].astype(np.float64) / scale
-    if rgb.shape[2] == 1:
-        rgb = np.repeat(rgb, 3, axis=2)
-    hit = np.all(np.abs(rgb - np.asarray(color, dtype=np.float64)) <= tolerance, axis=2)
-    if not hit.any():
-        shown = "#" + "".join(f"{round(255 * v):02x}" for v in color)
-        raise InvalidValueError(f"the mask has no pixel of the colour {shown}")
+    hit = _color_hits(mask, color, tolerance)
     h, w = hit.shape
     ys, xs = np.nonzero(hit)
     lonlat = coords.lonlat_from_pixel(np.stack([xs + 0.5, ys + 0.5], axis=-1), w, h)
@@ -238,6 +253,71 @@ def cap_from_mask(
     ang += math.hypot(360 / w, 180 / h) / 2
     lon, lat = np.degrees(coords.lonlat_from_xyz(c))
     return Cap(float(lon), float(lat), ang)
+
+
+class MaskRegions:
+    """The exact disks ``D_x`` of a mask: the pixels of one colour each (the paper's workflow).
+
+    ``labels[i, j]`` is the generator whose disk ``D_x`` holds mask pixel ``(i,
+    j)`` (its colour's), or -1 (black, or any other colour): a point is in
+    ``D_x`` when its nearest mask pixel is. ``D_X = X(C - D_x)`` then holds the
+    points ``q`` with ``X^-1(q)`` outside ``D_x``; the fundamental region is what
+    is in no disk.
+
+    Parameters
+    ----------
+    mask : array, shape (H, W) or (H, W, C)
+        An equirectangular mask (uint8, uint16 or float in 0..1).
+    colors : sequence of (r, g, b)
+        One colour (0..1 sRGB) per generator, in order.
+    tolerance : float
+        How far (0..1 per channel) a pixel may be from a colour.
+    path : str, optional
+        Where the mask was read from (kept in :meth:`Schottky.params`).
+
+    Examples
+    --------
+    >>> m = np.zeros((90, 180, 3), np.uint8)
+    >>> m[40:50, 85:95] = (255, 0, 0)
+    >>> r = MaskRegions(m, [(1.0, 0.0, 0.0)])
+    >>> r.contains(0, np.array([[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]])).tolist()
+    [True, False]
+    """
+
+    def __init__(
+        self,
+        mask: NDArray,
+        colors: Sequence[tuple[float, float, float]],
+        *,
+        tolerance: float = 0.25,
+        path: str | None = None,
+    ):
+        hits = [_color_hits(mask, tuple(c), tolerance) for c in colors]
+        labels = np.full(hits[0].shape, -1, np.int16)
+        for i, hit in enumerate(hits):
+            both = hit & (labels >= 0)
+            if both.any():
+                raise InvalidValueError(
+                    f"mask colours {int(labels[both][0]) + 1} and {i + 1} are within the "
+                    f"tolerance {tolerance:g} of each other on {int(both.sum())} pixels"
+                )
+            labels[hit] = i
+        self.labels = labels
+        self.colors = [tuple(float(v) for v in c) for c in colors]
+        self.tolerance = float(tolerance)
+        self.path = path
+
+    def label(self, xyz: NDArray[np.float64]) -> NDArray[np.int16]:
+        """The label of each point's nearest mask pixel."""
+        h, w = self.labels.shape
+        px = coords.pixel_from_lonlat(coords.lonlat_from_xyz(xyz), w, h)
+        ix = np.floor(px[..., 0]).astype(np.intp) % w
+        iy = np.clip(np.floor(px[..., 1]).astype(np.intp), 0, h - 1)
+        return self.labels[iy, ix]
+
+    def contains(self, i: int, xyz: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Points in the disk ``D_x`` of generator ``i``."""
+        return self.label(xyz) == i
 
 
 def _in_cap(cap: Cap, n: int, rng: np.random.Generator) -> NDArray[np.float64]:
@@ -256,8 +336,10 @@ def _in_cap(cap: Cap, n: int, rng: np.random.Generator) -> NDArray[np.float64]:
     )
 
 
-def _default_depth(gens: list[tuple[Cap, Mobius]], targets: list[Cap]) -> int:
-    """Enough steps that what is left unreduced lies in disks below a pixel at 8192 across.
+def _default_depth(
+    gens: list[tuple[Cap, Mobius]], targets: list[Cap], width: int = DEFAULT_WIDTH
+) -> int:
+    """Enough steps that what is left unreduced lies in disks below a pixel at ``width`` across.
 
     After ``k`` steps the points not yet reduced lie in the disks of words of ``k + 1``
     letters, each the image of a disk under a word of ``k`` letters. A letter (``X`` or
@@ -275,7 +357,7 @@ def _default_depth(gens: list[tuple[Cap, Mobius]], targets: list[Cap]) -> int:
                 if j != own:
                     mu = max(mu, float(letter.local_scale(coords.cp1_from_xyz(pts)).max()))
     big = max(math.radians(c.radius) for c in caps)
-    pixel = 2 * math.pi / DEFAULT_WIDTH
+    pixel = 2 * math.pi / width
     if mu >= 0.999:
         return 200
     need = math.log(pixel / (2 * big)) / math.log(mu)
@@ -295,7 +377,7 @@ class Schottky(SphereMap):
     depth : int, optional
         The most reduction steps; points not reduced by then are undefined.
         Default: enough that the copies left are below a pixel of an output
-        8192 pixels wide.
+        8192 pixels wide (:meth:`for_output` sizes it for another output).
     phase : float
         Pre-composes with ``X0 ** -phase`` (``X0`` the first generator, as
         :class:`~spherewarp.maps.Droste` does with its zoom): phase 1 is the
@@ -372,6 +454,7 @@ class Schottky(SphereMap):
                         f"the disks must be disjoint: {disks[a][0]} {_fmt(disks[a][1])} and "
                         f"{disks[b][0]} {_fmt(disks[b][1])} overlap by {-gap:.3g} degrees"
                     )
+        self._width = DEFAULT_WIDTH
         if depth is None:
             self._depth_given = None
             self._depth = _default_depth(gens, targets)
@@ -384,6 +467,7 @@ class Schottky(SphereMap):
             self._depth = int(depth)
         t = self._phase = check_phase(phase)
         self._pre = gens[0][1].power(-t) if t else None
+        self._regions: MaskRegions | None = None
 
     @classmethod
     def from_disk_pairs(
@@ -432,8 +516,78 @@ class Schottky(SphereMap):
         return self._phase
 
     def with_phase(self, phase: float) -> Schottky:
-        """The same map at another phase."""
-        return type(self)._from_params({**self.params(), "phase": float(phase)})  # type: ignore[return-value]
+        """The same map at another phase (sized for the same output)."""
+        out = type(self)._from_params({**self.params(), "phase": float(phase)})
+        return out.for_output(self._width)  # type: ignore[attr-defined,no-any-return]
+
+    def for_output(self, width: int) -> Schottky:
+        """The same map with its default depth sized for an output ``width`` pixels across.
+
+        The depth is then enough that the copies left unreduced are below a pixel
+        of ``360 / width`` degrees (a given ``depth`` stays as it is). Deeper costs
+        only the pixels next to the limit set, so a larger width is safe; the
+        sizing is not part of :meth:`params` (a recipe sizes its own output).
+
+        Examples
+        --------
+        >>> s = Schottky.from_disk_pairs([((0, 0, 20), (180, 0, 20))])
+        >>> s.for_output(256).depth < s.depth < s.for_output(65536).depth
+        True
+        """
+        try:
+            width = int(width)
+        except (TypeError, ValueError):
+            raise InvalidValueError(f"width: expected a number of pixels, got {width!r}") from None
+        if width < 1:
+            raise InvalidValueError(f"width: expected a positive number of pixels, got {width}")
+        out = copy.copy(self)
+        out._width = width
+        if self._depth_given is None:
+            out._depth = _default_depth(self._gens, self._targets, width)
+        return out
+
+    @property
+    def regions(self) -> MaskRegions | None:
+        """The exact disks ``D_x`` from a mask, or None (round disks)."""
+        return self._regions
+
+    def with_mask_regions(self, regions: MaskRegions) -> Schottky:
+        """The same generators with the exact disks of a mask (the paper's workflow).
+
+        ``D_x`` of generator ``i`` becomes the mask's pixels of colour ``i``
+        (:class:`MaskRegions`), ``D_X = X(C - D_x)`` the points ``q`` with
+        ``X^-1(q)`` outside it, and the fundamental region is the mask's black
+        (and every other colour) less the ``D_X``. The generators stay as given
+        (built from round disks: each ``D_x`` must lie in its generator's round
+        disk). Rendered on the NumPy path.
+
+        Raises
+        ------
+        InvalidValueError
+            If the number of colours is not the number of generators, if a region
+            is not inside its round disk, or if two of the exact disks overlap (the
+            pair and the overlap in square degrees are named).
+
+        Examples
+        --------
+        >>> m = np.zeros((90, 180, 3), np.uint8)
+        >>> m[40:50, 85:95] = (255, 0, 0)
+        >>> red = cap_from_mask(m, (1.0, 0.0, 0.0))
+        >>> s = Schottky([(red, generator_between(red, Cap(180, 0, 20)))])
+        >>> e = s.with_mask_regions(MaskRegions(m, [(1.0, 0.0, 0.0)]))
+        >>> q = [[0.0, 12.0]]  # in the round disk, outside the square region
+        >>> e.apply_lonlat(q).round(6).tolist(), bool(np.allclose(s.apply_lonlat(q), q))
+        ([[0.0, 12.0]], False)
+        """
+        if len(regions.colors) != len(self._gens):
+            raise InvalidValueError(
+                f"expected one mask colour per generator ({len(self._gens)}), got "
+                f"{len(regions.colors)}"
+            )
+        _check_regions(self, regions)
+        out = copy.copy(self)
+        out._regions = regions
+        return out
 
     # -- the reduction ------------------------------------------------------------------
     def _reduce(self, zw: ComplexArray) -> tuple[ComplexArray, NDArray[np.bool_], NDArray]:
@@ -461,7 +615,8 @@ class Schottky(SphereMap):
             move = np.full(active.size, -1)
             for j in range(2 * n):
                 # never undo the last step (a point on a boundary would bounce)
-                hit = (move < 0) & caps[j].contains(xyz, strict=True) & (last[active] != (j ^ 1))
+                hit = (move < 0) & (last[active] != (j ^ 1))
+                hit &= self._in_disk(j, xyz, zw[active], maps)
                 move[hit] = j
             free = move < 0
             done[active[free]] = True
@@ -476,8 +631,43 @@ class Schottky(SphereMap):
                     last[sel] = j
         return zw.reshape(*shape, 2), done.reshape(shape), scale.reshape(shape)
 
+    def _in_disk(
+        self, j: int, xyz: NDArray[np.float64], zw: ComplexArray, maps: list[Mobius]
+    ) -> NDArray[np.bool_]:
+        """Points in the disk of move ``j`` (``2 i``: ``D_x`` of generator ``i``; ``2 i + 1``:
+        its ``D_X``), round or from the mask's regions."""
+        i = j // 2
+        if self._regions is None:
+            cap = self._gens[i][0] if j % 2 == 0 else self._targets[i]
+            return cap.contains(xyz, strict=True)
+        if j % 2 == 0:
+            return self._regions.contains(i, xyz)
+        # D_X = X(C - D_x): X^-1(q) outside D_x (maps[j] is X^-1)
+        return ~self._regions.contains(i, coords.xyz_from_cp1(maps[j].pull_cp1(zw)))
+
     def pull_cp1(self, zw: ComplexArray) -> ComplexArray:
         return self._reduce(zw)[0]
+
+    def kernel_stages(self) -> tuple[tuple[str, NDArray[np.float64]], ...] | None:
+        """``("schottky", ...)`` after the phase's Möbius stage (compiled renderer; None
+        with the exact disks of a mask).
+
+        The moves in :meth:`_reduce`'s order: ``D_x`` with ``X``, then ``D_X`` with
+        ``X^-1``, for each generator; each its disk's normal and ``cos r`` and the
+        Lorentz matrix of its map.
+        """
+        if self._regions is not None:
+            return None  # the exact disks of a mask: the NumPy path
+        from ..render.stages import SCHOTTKY, lorentz_from_sl2
+
+        moves = []
+        for (cap, m), t in zip(self._gens, self._targets, strict=True):
+            for disk, mat in ((cap, m.matrix), (t, m.inverse().matrix)):
+                lor = lorentz_from_sl2(mat / np.sqrt(np.linalg.det(mat)))
+                moves.append(np.concatenate([disk.normal, [disk.cos_r], lor.ravel()]))
+        row = SCHOTTKY.pack(count=len(self._gens), depth=self._depth, moves=np.array(moves))
+        core = (("schottky", row),)
+        return core if self._pre is None else self._pre.kernel_stages() + core
 
     def pull(self, zw: ComplexArray) -> PullBack:
         points, done, _ = self._reduce(zw)
@@ -498,6 +688,18 @@ class Schottky(SphereMap):
             out["depth"] = self._depth_given
         if self._phase:
             out["phase"] = self._phase
+        if self._regions is not None:
+            r = self._regions
+            if r.path is None:
+                raise InvalidValueError(
+                    "a Schottky map with mask regions has plain data only when its mask was "
+                    "read from a file (MaskRegions(..., path=...))"
+                )
+            out["mask"] = {
+                "path": r.path,
+                "colors": [list(c) for c in r.colors],
+                "tolerance": r.tolerance,
+            }
         return out
 
     @classmethod
@@ -507,11 +709,29 @@ class Schottky(SphereMap):
         for g in params.pop("generators"):
             m = Mobius._from_params({"matrix": g["matrix"]})
             gens.append((tuple(g["disk"]), m))
-        return cls(gens, **params)
+        mask = params.pop("mask", None)
+        out = cls(gens, **params)
+        if mask is None:
+            return out
+        from ..io import read_image
+
+        pixels = read_image(mask["path"], full_sphere=False).pixels
+        regions = MaskRegions(
+            pixels,
+            [tuple(c) for c in mask["colors"]],
+            tolerance=mask.get("tolerance", 0.25),
+            path=mask["path"],
+        )
+        return out.with_mask_regions(regions)
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Schottky):
             return NotImplemented
+        ra, rb = self._regions, other._regions
+        if (ra is None) != (rb is None) or (
+            ra is not None and rb is not None and not np.array_equal(ra.labels, rb.labels)
+        ):
+            return False
         return (
             self._depth_given == other._depth_given
             and self._phase == other._phase
@@ -523,6 +743,41 @@ class Schottky(SphereMap):
         )
 
     __hash__ = None  # type: ignore[assignment]
+
+
+def _check_regions(s: Schottky, regions: MaskRegions) -> None:
+    """Each region inside its generator's round disk, and the exact disks pairwise disjoint,
+    at the centres of the mask's pixels (at most about 2 million of them)."""
+    labels = regions.labels
+    h, w = labels.shape
+    step = max(1, int(math.ceil(math.sqrt(h * w / 2_000_000))))
+    ys, xs = np.mgrid[0:h:step, 0:w:step] + 0.5
+    lonlat = coords.lonlat_from_pixel(np.stack([xs, ys], axis=-1).reshape(-1, 2), w, h)
+    xyz = coords.xyz_from_lonlat(lonlat)
+    zw = coords.cp1_from_xyz(xyz)
+    area = np.cos(lonlat[:, 1]) * (360.0 * step / w) * (180.0 * step / h)  # square degrees
+    own = regions.label(xyz)
+    names, member = [], []
+    for i, (cap, m) in enumerate(s.generators):
+        d_x = own == i
+        outside = d_x & ~cap.contains(xyz)
+        if outside.any():
+            raise InvalidValueError(
+                f"generator {i + 1}: the mask region of its colour reaches "
+                f"{float(area[outside].sum()):.3g} square degrees outside its round disk "
+                f"{_fmt(cap)}"
+            )
+        d_big = ~regions.contains(i, coords.xyz_from_cp1(m.inverse().pull_cp1(zw)))
+        names += [f"D_x of generator {i + 1} (its mask region)", f"D_X of generator {i + 1}"]
+        member += [d_x, d_big]
+    for a in range(len(member)):
+        for b in range(a + 1, len(member)):
+            both = member[a] & member[b]
+            if both.any():
+                raise InvalidValueError(
+                    f"the disks must be disjoint: {names[a]} and {names[b]} overlap on "
+                    f"{float(area[both].sum()):.3g} square degrees"
+                )
 
 
 def _fmt(cap: Cap) -> str:

@@ -38,9 +38,9 @@ Write ``_stage_<name>(p, T, X, Y, Z, G, valid, n)`` below (``p`` is the
 stage's float64 parameter row; update the point in place, multiply ``G`` by
 the map's own magnification where it normalises ``T`` to 1 (see
 :func:`_stage_lorentz` for the invariant), clear ``valid[k]`` where the map is
-undefined), give it a code ``STAGE_<NAME>`` and add its branch to
-:func:`run_stages`; then register the name in
-``spherewarp.render.fast.STAGE_KINDS``.
+undefined) and add its branch to :func:`run_stages`; its code ``STAGE_<NAME>`` and
+the offsets of its fields (``<NAME>_<FIELD>``) come from its entry in the table of
+:mod:`spherewarp.render.stages`, whose docstring has the whole recipe.
 
 Keep its loops vectorisable, as the existing stages are: compile it with
 ``_V`` (numba's ``'numpy'`` error model: no zero-divisor check, which is an
@@ -74,7 +74,40 @@ from numba.core import cgutils
 from numba.core.extending import intrinsic
 from numba.np.arrayobj import populate_array
 
+from . import stages as _stages
 from ._fastmath import SINCOS_MAX, fexp, flog, fsincos
+from .stages import (
+    DROSTE_BETA_ABS,
+    DROSTE_BETA_IM,
+    DROSTE_BETA_RE,
+    DROSTE_C_IM,
+    DROSTE_C_RE,
+    DROSTE_CAP,
+    DROSTE_ELL,
+    DROSTE_M,
+    DROSTE_PIVOT,
+    DROSTE_RHO,
+    EXP_CAP,
+    EXP_LAM,
+    EXP_NEAR,
+    MOBIUS_L00,
+    POWER_M,
+    RATIONAL_COEFFICIENTS,
+    RATIONAL_DEGREE,
+    SCHOTTKY_COUNT,
+    SCHOTTKY_DEPTH,
+    SCHOTTKY_MOVES,
+    SCHOTTKY_MOVES_COS_R,
+    SCHOTTKY_MOVES_L00,
+    SCHOTTKY_MOVES_NX,
+    SCHOTTKY_MOVES_SIZE,
+    STAGE_DROSTE,
+    STAGE_EXP,
+    STAGE_MOBIUS,
+    STAGE_POWER,
+    STAGE_RATIONAL,
+    STAGE_SCHOTTKY,
+)
 
 # Only contraction (FMA) and signless zeros: 'reassoc' rewrites (1 - t) a + t b as
 # a + t (b - a), which is not exact at t = 1; 'nnan'/'ninf' would break the selects that
@@ -93,12 +126,15 @@ HALF_PI = 0.5 * math.pi
 TWO_PI = 2.0 * math.pi
 INV_TWO_PI = 0.5 / math.pi
 
-#: stage codes (see :func:`run_stages`)
-STAGE_LORENTZ = 1
-STAGE_POWER = 2
-STAGE_EXP = 3
-STAGE_RATIONAL = 4
-STAGE_DROSTE = 5
+# Stage codes and parameter offsets: the table of spherewarp.render.stages (see run_stages).
+# numba freezes these globals into the machine code it caches on disk, and its cache only
+# looks at this file: a change of the table must touch this file (the fingerprint below).
+_TABLE_FINGERPRINT = "fe01cd273c0d"
+if _stages.fingerprint() != _TABLE_FINGERPRINT:  # pragma: no cover - a developer's reminder
+    raise ImportError(
+        "the stage table (spherewarp.render.stages) changed: update _TABLE_FINGERPRINT in "
+        f"{__name__} to {_stages.fingerprint()!r} (this also recompiles the kernels)"
+    )
 
 #: interpolation codes
 NEAREST = 0
@@ -182,28 +218,30 @@ def atan2_poly(y: float, x: float) -> float:
 
 @njit(**_H)
 def _stage_lorentz(p, T, X, Y, Z, n):
-    """A Möbius map as the Lorentz matrix ``p[0:16]`` (row-major) on ``(T, X, Y, Z)``.
+    """A Möbius map as the Lorentz matrix at ``p[MOBIUS_L00:]`` (4x4, row-major) on
+    ``(T, X, Y, Z)``.
 
     Linear, so ``T`` is not normalised and the magnification ``G / T`` needs
     no update: for a null vector with ``T = 1`` the sphere map's magnification
     is ``1 / T'``.
     """
-    l00 = p[0]
-    l01 = p[1]
-    l02 = p[2]
-    l03 = p[3]
-    l10 = p[4]
-    l11 = p[5]
-    l12 = p[6]
-    l13 = p[7]
-    l20 = p[8]
-    l21 = p[9]
-    l22 = p[10]
-    l23 = p[11]
-    l30 = p[12]
-    l31 = p[13]
-    l32 = p[14]
-    l33 = p[15]
+    o = MOBIUS_L00  # the matrix, row-major
+    l00 = p[o + 0]
+    l01 = p[o + 1]
+    l02 = p[o + 2]
+    l03 = p[o + 3]
+    l10 = p[o + 4]
+    l11 = p[o + 5]
+    l12 = p[o + 6]
+    l13 = p[o + 7]
+    l20 = p[o + 8]
+    l21 = p[o + 9]
+    l22 = p[o + 10]
+    l23 = p[o + 11]
+    l30 = p[o + 12]
+    l31 = p[o + 13]
+    l32 = p[o + 14]
+    l33 = p[o + 15]
     for k in range(n):
         t = T[k]
         x = X[k]
@@ -258,11 +296,11 @@ def _power_put(sg, am, t, ra, r2, br, bi, T, X, Y, Z, G, k):
 
 @njit(**_V)
 def _stage_power(p, T, X, Y, Z, G, valid, n):
-    """``(z, w) -> (z^m, w^m)`` (``m = p[0]``, a non-zero integer; ``(w^|m|, z^|m|)`` if
+    """``(z, w) -> (z^m, w^m)`` (``m = p[POWER_M]``, a non-zero integer; ``(w^|m|, z^|m|)`` if
     ``m < 0``); magnification ``|m| |q|^(|m|-1) (1 + |q|^2) / (1 + |q|^(2|m|))``.
 
     ``|m| = 2, 3`` have their own straight-line loops (vectorised by LLVM)."""
-    m = int(p[0])
+    m = int(p[POWER_M])
     am = abs(m)
     flip = 1.0 if m > 0 else -1.0
     if am == 2:
@@ -301,14 +339,14 @@ def _stage_power(p, T, X, Y, Z, G, valid, n):
 
 @njit(**_V)
 def _stage_exp(p, T, X, Y, Z, G, valid, n):
-    """The exp variant ``S(z) = -exp(-lam (1 + z) / (1 - z))`` (``lam = p[0]``).
+    """The exp variant ``S(z) = -exp(-lam (1 + z) / (1 - z))`` (``lam = p[EXP_LAM]``).
 
     ``u = (1 + z)/(1 - z) = (Z - i Y) / (R + X)`` (``R = |(X, Y, Z)|``, which
     is ``T`` up to rounding; near the singularity ``z = 1``, ``X = -R``, the
     denominator is computed as ``(Y^2 + Z^2) / (R - X)``, without
-    cancellation); within ``|w - z|^2 = (R + X)/R < p[1] = 2 sin^2(r / 2)``
+    cancellation); within ``|w - z|^2 = (R + X)/R < near = 2 sin^2(r / 2)``
     the point goes to its limit (the zenith if ``Z >= 0``, else the nadir)
-    with magnification ``p[2]``; elsewhere the magnification is
+    with magnification ``cap``; elsewhere the magnification is
     ``lam / (|w - z|^2 cosh(lam Re u))``.
 
     One branch-free loop (vectorised: :mod:`._fastmath` instead of libm, selects
@@ -319,9 +357,9 @@ def _stage_exp(p, T, X, Y, Z, G, valid, n):
     marked with a negative ``T`` (``T`` is positive on the sphere's null cone),
     and redone after the loop with ``math.sin``/``math.cos`` (:func:`_exp_point`).
     """
-    lam = p[0]
-    near = p[1]
-    cap = p[2]
+    lam = p[EXP_LAM]
+    near = p[EXP_NEAR]
+    cap = p[EXP_CAP]
     nbig = 0
     for k in range(n):
         t = T[k]
@@ -432,9 +470,9 @@ def _rational_plan(p):
     ``(a, b)`` is ``(au, bu)`` in the chart ``(q, 1)`` and ``(al, bl)`` in ``(1, q)``.
     Costs a few dozen integer operations (once per call, i.e. per chunk).
     """
-    d = int(p[0])
-    on = 1
-    od = 1 + 2 * (d + 1)
+    d = int(p[RATIONAL_DEGREE])
+    on = RATIONAL_COEFFICIENTS
+    od = RATIONAL_COEFFICIENTS + 2 * (d + 1)
     generic = (1, d, 0, d, 0, d, 0, 0, 0, 0, 0, 0)
     if d > 62:
         return generic
@@ -496,8 +534,8 @@ def _coef(p, base, j, pad, i0, step):
 @njit(inline="always", **_H)
 def _rational_block(p, plan, T, X, Y, Z, G, m, buf):
     """The first ``m <= buf.shape[1]`` points of :func:`_stage_rational`."""
-    on = 1
-    od = 1 + 2 * (int(p[0]) + 1)
+    on = RATIONAL_COEFFICIENTS
+    od = RATIONAL_COEFFICIENTS + 2 * (int(p[RATIONAL_DEGREE]) + 1)
     g, kk, jn0, jn1, jd0, jd1, pn, pd, au, bu, al, bl = plan
     rs = _R_S if g > 1 else _R_Q
     for k in range(m):
@@ -629,8 +667,9 @@ def _rational_block(p, plan, T, X, Y, Z, G, m, buf):
 def _stage_rational(p, T, X, Y, Z, G, valid, n):
     """``(z, w) -> (N(z, w), D(z, w))``, homogeneous Horner in the affine coordinate ``q``.
 
-    ``p[0] = d``, then the ``d + 1`` coefficients of ``N`` and of ``D`` (highest
-    degree first, zero-padded to degree ``d``) as ``(re, im)`` pairs. For
+    ``p[RATIONAL_DEGREE] = d``, then (from ``RATIONAL_COEFFICIENTS``) the ``d + 1``
+    coefficients of ``N`` and of ``D`` (highest degree first, zero-padded to degree
+    ``d``) as ``(re, im)`` pairs. For
     ``(1, q)`` the coefficient lists are read backwards. Magnification
     ``|N' D - N D'| (1 + |q|^2) / (|N|^2 + |D|^2)``.
 
@@ -661,22 +700,22 @@ def _droste_block(p, T, X, Y, Z, G, n, buf):
     rho table position, 2 |beta| T (inf at the fixed points), rxy (T there),
     T)`` in ``buf``; the last finishes with one division a point.
     """
-    m = int(p[0])
-    ell = p[1]
-    br = p[2]
-    bi = p[3]
-    l0 = p[4]
-    cr = p[5]
-    ci = p[6]
-    cap = p[7]
-    ab = p[8]
+    m = int(p[DROSTE_M])
+    ell = p[DROSTE_ELL]
+    br = p[DROSTE_BETA_RE]
+    bi = p[DROSTE_BETA_IM]
+    l0 = p[DROSTE_PIVOT]
+    cr = p[DROSTE_C_RE]
+    ci = p[DROSTE_C_IM]
+    cap = p[DROSTE_CAP]
+    ab = p[DROSTE_BETA_ABS]
     tiny = 1e-300
     mf = float(m)
     inv_ell = 1.0 / ell
-    rho0 = p[9]
+    rho0 = p[DROSTE_RHO]
     round_hole = True
     for j in range(1, m):
-        round_hole &= p[9 + j] == rho0
+        round_hole &= p[DROSTE_RHO + j] == rho0
     for k in range(n):
         t = T[k]
         x = X[k]
@@ -718,7 +757,7 @@ def _droste_block(p, T, X, Y, Z, G, n, buf):
             f = xi - i0f
             i0 = int(i0f)
             i1 = i0 + 1 if i0 + 1 < m else 0
-            buf[2, k] = p[9 + i0] * (1.0 - f) + p[9 + i1] * f
+            buf[2, k] = p[DROSTE_RHO + i0] * (1.0 - f) + p[DROSTE_RHO + i1] * f
     for k in range(n):
         lr = buf[0, k]
         ths = buf[1, k]
@@ -753,7 +792,8 @@ def _droste_block(p, T, X, Y, Z, G, n, buf):
 def _stage_droste(p, T, X, Y, Z, G, valid, n):
     """A straight or twisted Droste map in its own chart (0 and infinity the fixed points).
 
-    ``p = [m, ell, Re beta, Im beta, L0, Re C, Im C, cap, |beta|, rho_0 .. rho_(m-1)]``:
+    ``p``: the fields of the ``droste`` stage (:mod:`.stages`: ``m, ell, Re beta, Im beta,
+    L0, Re C, Im C, cap, |beta|``, then ``rho_0 .. rho_(m-1)``):
     ``L = log zeta``, ``Ls = beta (L - L0) + C``, then ``Ls`` is reduced into the
     strip ``rho(theta) <= Re < rho(theta) + ell``, ``|Im| <= pi`` (``rho`` the
     periodic linear interpolation of the ``m`` samples at ``theta = -pi + 2 pi
@@ -770,6 +810,69 @@ def _stage_droste(p, T, X, Y, Z, G, valid, n):
         _droste_block(p, T[k0:k1], X[k0:k1], Y[k0:k1], Z[k0:k1], G[k0:k1], k1 - k0, buf)
 
 
+@njit(_nrt=False, **_V)
+def _stage_schottky(p, T, X, Y, Z, G, valid, n):
+    """The Schottky reduction (:class:`spherewarp.maps.Schottky`), at most ``depth`` moves.
+
+    ``p``: the fields of the ``schottky`` stage (:mod:`.stages`): ``count`` generators,
+    ``depth``, then ``2 count`` moves of ``SCHOTTKY_MOVES_SIZE`` floats: the open disk
+    ``n . v > cos_r`` (``v`` the unit point) and the Lorentz matrix applied there (move
+    ``2 i``: ``D_x`` and ``X``; ``2 i + 1``: ``D_X`` and ``X^-1``). While the point lies in
+    the disk of a move, that move is applied (the first in order; never the one undoing
+    the last move, so a point on a boundary does not bounce); a point still in a disk
+    after ``depth`` moves is invalid. The disk test is ``n . (X, Y, Z) > cos_r T`` on the
+    homogeneous vector; a move normalises ``T`` to 1 and divides ``G`` by the ``T`` it
+    gave (the magnification stays ``G / T``). A point of the fundamental region is left
+    as it is. Scalar: the number of moves differs from point to point.
+    """
+    nm = 2 * int(p[SCHOTTKY_COUNT])
+    depth = int(p[SCHOTTKY_DEPTH])
+    for k in range(n):
+        t = T[k]
+        x = X[k]
+        y = Y[k]
+        z = Z[k]
+        g = G[k]
+        last = -1
+        free = False
+        moved = False
+        for it in range(depth + 1):
+            move = -1
+            for j in range(nm):
+                b = SCHOTTKY_MOVES + j * SCHOTTKY_MOVES_SIZE
+                d = p[b + SCHOTTKY_MOVES_NX] * x + p[b + SCHOTTKY_MOVES_NX + 1] * y
+                d += p[b + SCHOTTKY_MOVES_NX + 2] * z
+                if j != (last ^ 1) and d > p[b + SCHOTTKY_MOVES_COS_R] * t:
+                    move = j
+                    break
+            if move < 0:
+                free = True
+                break
+            if it == depth:
+                break
+            o = SCHOTTKY_MOVES + move * SCHOTTKY_MOVES_SIZE + SCHOTTKY_MOVES_L00
+            t2 = p[o] * t + p[o + 1] * x + p[o + 2] * y + p[o + 3] * z
+            x2 = p[o + 4] * t + p[o + 5] * x + p[o + 6] * y + p[o + 7] * z
+            y2 = p[o + 8] * t + p[o + 9] * x + p[o + 10] * y + p[o + 11] * z
+            z2 = p[o + 12] * t + p[o + 13] * x + p[o + 14] * y + p[o + 15] * z
+            inv = 1.0 / t2
+            g = g * inv
+            t = 1.0
+            x = x2 * inv
+            y = y2 * inv
+            z = z2 * inv
+            last = move
+            moved = True
+        if moved:
+            T[k] = t
+            X[k] = x
+            Y[k] = y
+            Z[k] = z
+            G[k] = g
+        if not free:
+            valid[k] = 0
+
+
 @njit(_nrt=False, **_H)
 def run_stages(codes, params, T, X, Y, Z, G, valid, n):
     """Apply the stages of a map, in order, to the first ``n`` points.
@@ -780,7 +883,7 @@ def run_stages(codes, params, T, X, Y, Z, G, valid, n):
     """
     for s in range(codes.shape[0]):
         code = codes[s]
-        if code == STAGE_LORENTZ:
+        if code == STAGE_MOBIUS:
             _stage_lorentz(params[s], T, X, Y, Z, n)
         elif code == STAGE_POWER:
             _stage_power(params[s], T, X, Y, Z, G, valid, n)
@@ -790,6 +893,8 @@ def run_stages(codes, params, T, X, Y, Z, G, valid, n):
             _stage_rational(params[s], T, X, Y, Z, G, valid, n)
         elif code == STAGE_DROSTE:
             _stage_droste(params[s], T, X, Y, Z, G, valid, n)
+        elif code == STAGE_SCHOTTKY:
+            _stage_schottky(params[s], T, X, Y, Z, G, valid, n)
         # New kinds: elif code == STAGE_<NAME>: _stage_<name>(params[s], T, X, Y, Z, G, valid, n)
 
 
@@ -811,18 +916,19 @@ def mobius_to_source(cl, sl, cc, cs, p, n, kx, ky, T, u, v):
     """The common case fused: one Lorentz stage, from the row's and columns' trig
     tables straight to tap-space source coordinates (and ``T``; the
     magnification is ``1 / T``)."""
-    sl0 = p[0] + p[3] * sl
-    sl1 = p[4] + p[7] * sl
-    sl2 = p[8] + p[11] * sl
-    sl3 = p[12] + p[15] * sl
-    c01 = p[1] * cl
-    c02 = p[2] * cl
-    c11 = p[5] * cl
-    c12 = p[6] * cl
-    c21 = p[9] * cl
-    c22 = p[10] * cl
-    c31 = p[13] * cl
-    c32 = p[14] * cl
+    o = MOBIUS_L00  # the Lorentz matrix, row-major
+    sl0 = p[o + 0] + p[o + 3] * sl
+    sl1 = p[o + 4] + p[o + 7] * sl
+    sl2 = p[o + 8] + p[o + 11] * sl
+    sl3 = p[o + 12] + p[o + 15] * sl
+    c01 = p[o + 1] * cl
+    c02 = p[o + 2] * cl
+    c11 = p[o + 5] * cl
+    c12 = p[o + 6] * cl
+    c21 = p[o + 9] * cl
+    c22 = p[o + 10] * cl
+    c31 = p[o + 13] * cl
+    c32 = p[o + 14] * cl
     for k in range(n):
         x = cc[k]
         y = cs[k]
@@ -1895,7 +2001,9 @@ def render_spec(
     """
     hi = img[5]
     wi, c, obytes, ntx, ntiles, big_w, shift, lom, spill = _layout(img, dst, ho, wo, th, tw)
-    nsb = SUB_BATCH if do_aa else 1
+    # without anti-aliasing the special pixels (undefined ones: valid = 0) still go through
+    # _subsamples, one sample each: room for a whole chunk
+    nsb = SUB_BATCH if do_aa else tw
     # Worker wk of nw (threads of the caller): scratch is allocated once; rows of tiles
     # are dealt out round-robin, and each row is walked left to right (cache locality).
     f64s = np.empty((7, tw))
@@ -1938,7 +2046,7 @@ def render_spec(
           np.empty((4, nau), np.float32))  # fmt: skip
     own = np.empty(nsb, np.int64)
     sv = np.empty(nsb, np.uint8)
-    mob1 = codes.shape[0] == 1 and codes[0] == STAGE_LORENTZ  # the common case, fused
+    mob1 = codes.shape[0] == 1 and codes[0] == STAGE_MOBIUS  # the common case, fused
     ecc = np.empty(2)
     ecs = np.empty(2)
     EF = np.ones((7, 2))

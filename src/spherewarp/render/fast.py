@@ -11,38 +11,11 @@ pull-back costs 16 multiply-adds per pixel and no trigonometry until the
 final vector -> pixel step. Maps without stages still get compiled sampling
 (:func:`sample_samples`) with their coordinates computed by NumPy.
 
-Known kinds (:data:`STAGE_KINDS`):
-
-``"mobius"``
-    8 floats: the real and imaginary parts of ``a, b, c, d`` of an SL(2, C)
-    matrix ``[[a, b], [c, d]]`` acting on ``(z, w)`` (the default chart).
-``"power"``
-    1 float: a non-zero integer ``m``; ``(z, w) -> (z^m, w^m)``
-    (:class:`~spherewarp.maps.Power` with an integer exponent).
-``"exp"``
-    3 floats: ``lam``, the squared chordal radius ``2 sin^2(r/2)`` around
-    ``z = 1`` inside which the map takes its limit, and the magnification
-    reported there (:class:`~spherewarp.maps.ExpMap`).
-``"rational"``
-    ``1 + 4 (d + 1)`` floats: the degree ``d``, then the numerator's and the
-    denominator's ``d + 1`` coefficients (highest degree first, zero-padded)
-    as ``(re, im)`` pairs (:class:`~spherewarp.maps.Rational`).
-``"droste"``
-    ``9 + m`` floats: ``m``, ``log(lambda)``, ``beta`` (re, im), ``L0``, the
-    constant ``L0 - phase Q`` (re, im), the magnification reported at the
-    fixed points, ``|beta|`` and the ``m`` samples of ``rho``; the map in its
-    own chart (:class:`~spherewarp.maps.Droste`,
-    :class:`~spherewarp.maps.TwistedDroste` with one input image). A map
-    with jumps: see :data:`JUMP_KINDS`.
-
-How a new map family adds its compiled kernel:
-
-1. in the map class, return its stages from ``kernel_stages()`` (e.g.
-   ``(("mobius", pre), ("power", np.array([n])), ("mobius", post))``;
-2. in :mod:`spherewarp.render._kernels`, write ``_stage_power`` and add its
-   branch to ``run_stages`` (see that module's docstring);
-3. here, add ``"power": (code, n_params, max_scale_or_None)`` to
-   :data:`STAGE_KINDS`.
+The kinds, their codes and their parameter layouts are the table of
+:mod:`spherewarp.render.stages` (:data:`~spherewarp.render.stages.STAGES`):
+:func:`kernel_spec` checks each row there, bounds the magnification from it,
+and the stages with jumps are its ``has_jumps`` entries (:data:`JUMP_KINDS`).
+That module's docstring says how a new map family adds its compiled kernel.
 
 numba is imported lazily, on the first fast render; without numba (or with
 ``SPHEREWARP_NO_JIT=1`` in the environment) :func:`available` is False and
@@ -66,11 +39,12 @@ from numpy.typing import NDArray
 
 from ..maps.base import Composite, SphereMap
 from . import antialias as _aa
+from . import stages as _st
+from .stages import lorentz_from_sl2
 
 __all__ = [
     "JUMP_KINDS",
     "OPT_IN_KINDS",
-    "STAGE_KINDS",
     "KernelSpec",
     "available",
     "jump_codes",
@@ -80,16 +54,6 @@ __all__ = [
     "sample_samples",
     "source_coords",
 ]
-
-#: stage kinds the compiled renderer knows: name -> (kernel code, number of params or -1 for
-#: any number, checked by :func:`_params_ok`)
-STAGE_KINDS: dict[str, tuple[int, int]] = {
-    "mobius": (1, 8),
-    "power": (2, 1),
-    "exp": (3, 3),
-    "rational": (4, -1),
-    "droste": (5, -1),
-}
 
 INTERP_CODES = {"nearest": 0, "bilinear": 1, "bicubic": 2}
 
@@ -146,42 +110,6 @@ class KernelSpec:
     max_scale: float
 
 
-def lorentz_from_sl2(m: NDArray[np.complex128]) -> NDArray[np.float64]:
-    """The 4x4 Lorentz matrix of the Möbius map ``m`` on ``(t, x, y, z)``.
-
-    A point ``(x, y, z)`` of the sphere is the null vector ``(1, x, y, z)``,
-    that is the Hermitian matrix ``P = psi psi^H`` of its unit pair ``psi``
-    (see :func:`spherewarp.coords.xyz_from_cp1`); the map acts as
-    ``P -> m P m^H``. The image point is ``(x', y', z') / t'`` and the map's
-    spherical magnification there is ``1 / t'``.
-
-    Examples
-    --------
-    >>> from spherewarp.maps import Mobius
-    >>> m = Mobius.zoom((30, 10), 2.0)
-    >>> L = lorentz_from_sl2(m.matrix)
-    >>> v = np.array([0.6, 0.0, 0.8])
-    >>> t, *xyz = L @ np.r_[1.0, v]
-    >>> bool(np.allclose(np.array(xyz) / t, m.apply_xyz(v)))
-    True
-    """
-    m = np.asarray(m, dtype=np.complex128)
-
-    def herm(t: float, x: float, y: float, z: float) -> NDArray[np.complex128]:
-        return np.array([[(t - z) / 2, -(x + 1j * y) / 2], [-(x - 1j * y) / 2, (t + z) / 2]])
-
-    out = np.empty((4, 4))
-    for k, e in enumerate(np.eye(4)):
-        p = m @ herm(*e) @ m.conj().T
-        out[:, k] = [
-            (p[0, 0] + p[1, 1]).real,
-            -2 * p[0, 1].real,
-            -2 * p[0, 1].imag,
-            (p[1, 1] - p[0, 0]).real,
-        ]
-    return out
-
-
 def _stages_of(m: SphereMap) -> list[tuple[str, NDArray[np.float64]]] | None:
     if isinstance(m, Composite):
         out: list[tuple[str, NDArray[np.float64]]] = []
@@ -201,37 +129,13 @@ def _stages_of(m: SphereMap) -> list[tuple[str, NDArray[np.float64]]] | None:
     return [(str(kind).lower(), np.asarray(p, dtype=np.float64).ravel()) for kind, p in stages]
 
 
-def _params_ok(kind: str, p: NDArray[np.float64]) -> bool:
-    """True when ``p`` is a valid parameter row for a stage of ``kind``."""
-    if kind not in STAGE_KINDS or not np.all(np.isfinite(p)):
-        return False
-    size = STAGE_KINDS[kind][1]
-    if size >= 0 and p.size != size:
-        return False
-    if kind == "power":
-        return p[0] != 0 and float(p[0]).is_integer() and abs(p[0]) <= 1024
-    if kind == "exp":
-        return p[0] > 0
-    if kind == "rational":
-        return p.size >= 5 and float(p[0]).is_integer() and p.size == 1 + 4 * (int(p[0]) + 1)
-    if kind == "droste":
-        return p.size >= 9 + 1 and p[0] >= 1 and p.size == 9 + int(p[0]) and p[1] > 0
-    return True
-
-
-def _stage_max_scale(kind: str, p: NDArray[np.float64]) -> float:
-    """An upper bound of a non-Möbius stage's magnification (``inf`` if none is known)."""
-    if kind == "power":  # |m| r^(|m|-1) (1 + r^2) / (1 + r^(2|m|)) <= |m|, at r = 1
-        return abs(float(p[0]))
-    return math.inf
-
-
 #: stage kinds whose maps jump between neighbouring pixels (Droste: its seams; exp: the spiral
-#: into its essential singularity). In ``antialias="auto"`` the compiled renderer looks for
-#: jumps in maps with one of these stages (comparing each pixel's source point with its
-#: four neighbours', as :func:`spherewarp.render.antialias.jump_mask`) and supersamples the
-#: pixels on them; the magnification alone says nothing there.
-JUMP_KINDS: frozenset[str] = frozenset({"droste", "exp"})
+#: into its essential singularity; Schottky: its disk edges), the table's ``has_jumps``. In
+#: ``antialias="auto"`` the compiled renderer looks for jumps in maps with one of these
+#: stages (comparing each pixel's source point with its four neighbours', as
+#: :func:`spherewarp.render.antialias.jump_mask`) and supersamples the pixels on them; the
+#: magnification alone says nothing there.
+JUMP_KINDS: frozenset[str] = frozenset(s.name for s in _st.STAGES if s.has_jumps)
 
 #: stage kinds that compile only on request (``kernel_spec(m, opt_in={kind, ...})``), and why.
 #: Empty now: every kind has a compiled stage that is used by default.
@@ -243,10 +147,12 @@ def jump_codes() -> list[int]:
 
     Examples
     --------
-    >>> sorted(jump_codes()) == sorted(STAGE_KINDS[k][0] for k in ("droste", "exp"))
+    >>> sorted(jump_codes()) == sorted(_st.BY_NAME[k].code for k in JUMP_KINDS)
     True
+    >>> sorted(JUMP_KINDS)
+    ['droste', 'exp', 'schottky']
     """
-    return [STAGE_KINDS[k][0] for k in JUMP_KINDS]
+    return [s.code for s in _st.STAGES if s.has_jumps]
 
 
 def kernel_spec(m: SphereMap, *, opt_in: Collection[str] = ()) -> KernelSpec | None:
@@ -265,38 +171,32 @@ def kernel_spec(m: SphereMap, *, opt_in: Collection[str] = ()) -> KernelSpec | N
     stages = _stages_of(m)
     if stages is None:
         return None
-    fused: list[tuple[str, Any]] = []
+    fused: list[tuple[_st.Stage, Any]] = []
     for kind, p in stages:
-        if not _params_ok(kind, p):
+        stage = _st.BY_NAME.get(kind)
+        if stage is None or stage.problem(p) is not None:
             return None
         if kind in OPT_IN_KINDS and kind not in opt_in and "all" not in opt_in:
             return None
-        if kind == "mobius":
+        if stage is _st.MOBIUS:
             mat = p.view(np.complex128).reshape(2, 2)
-            if fused and fused[-1][0] == "mobius":
-                fused[-1] = ("mobius", mat @ fused[-1][1])  # later after earlier
+            if fused and fused[-1][0] is _st.MOBIUS:
+                fused[-1] = (_st.MOBIUS, mat @ fused[-1][1])  # later after earlier
                 continue
-            fused.append(("mobius", mat))
+            fused.append((_st.MOBIUS, mat))
         else:
-            fused.append((kind, p))
+            fused.append((stage, p))
+    rows = [st.kernel_row(p.view(np.float64).ravel()) for st, p in fused]
     width = 16
-    for _, p in fused:
-        width = max(width, np.size(p))
+    for row in rows:
+        width = max(width, row.size)
     codes = np.empty(len(fused), np.int64)
     params = np.zeros((len(fused), width))
     max_scale = 1.0
-    for s, (kind, p) in enumerate(fused):
-        codes[s] = STAGE_KINDS[kind][0]
-        if kind == "mobius":
-            mat = p / np.sqrt(np.linalg.det(p))
-            lor = lorentz_from_sl2(mat)
-            params[s, :16] = lor.ravel()
-            # magnification 1/t' >= ..., with min over the sphere of t' = L00 - |L0,1:|
-            tmin = lor[0, 0] - np.linalg.norm(lor[0, 1:])
-            max_scale *= 1.0 / tmin if tmin > 0 else math.inf
-        else:
-            params[s, : np.size(p)] = p
-            max_scale *= _stage_max_scale(kind, p)
+    for s, ((st, _), row) in enumerate(zip(fused, rows, strict=True)):
+        codes[s] = st.code
+        params[s, : row.size] = row
+        max_scale *= st.max_scale(row)
     return KernelSpec(codes, params, float(max_scale))
 
 
