@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -106,8 +107,10 @@ def test_errors_are_one_line(pattern, args, message):
 
 
 def test_mask_workflow(pattern):
+    """--mask: the disks D_x are the mask's colours (exact by default, the paper's rule), the
+    generators built from their round disks; --regions round takes the round disks."""
     from spherewarp.maps import Mobius
-    from spherewarp.maps.schottky import Cap, cap_from_mask, generator_between
+    from spherewarp.maps.schottky import Cap, MaskRegions, cap_from_mask, generator_between
 
     path, pixels = pattern
     h, w = pixels.shape[:2]
@@ -115,17 +118,31 @@ def test_mask_workflow(pattern):
     mask[26:38, 60:68] = (255, 0, 0)  # red: round lon 0, lat 0
     mask[10:16, 10:16] = (0, 255, 0)  # green: up and to the west
     write_image("mask.png", mask)
-    ok(None, "schottky", path, "-o", "m.png", "--mask", "mask.png",
-       "--target", "red", "170,0,20", "--target", "green", "30")  # fmt: skip
+    args = ("--mask", "mask.png", "--target", "red", "170,0,20", "--target", "green", "100")
+    ok(None, "schottky", path, "-o", "m.png", *args)
+    ok(None, "schottky", path, "-o", "r.png", *args, "--regions", "round")
     red, green = cap_from_mask(mask, (1, 0, 0)), cap_from_mask(mask, (0, 1, 0))
     assert abs(red.lon) < 2 and abs(red.lat) < 2
     s = Schottky(
         [
             (red, generator_between(red, Cap(170, 0, 20))),
-            (green, Mobius.zoom((green.lon, green.lat), 30)),
+            (green, Mobius.zoom((green.lon, green.lat), 100)),
         ]
-    )
-    assert np.array_equal(read_image("m.png").pixels, warp(pixels, s))
+    ).for_output(w)
+    exact = s.with_mask_regions(MaskRegions(mask, [(1, 0, 0), (0, 1, 0)]))
+    assert np.array_equal(read_image("m.png").pixels, warp(pixels, exact))
+    assert np.array_equal(read_image("r.png").pixels, warp(pixels, s))
+    assert not np.array_equal(read_image("m.png").pixels, read_image("r.png").pixels)
+    printed = map_from_json(ok(None, "schottky", path, *args, "--print"))
+    assert printed.regions is not None and printed == exact
+    err = fails(None, "schottky", path, "-o", "g.png", *args, "--generator", G1)
+    assert "--regions round" in err
+    # the exact disks are stricter than the round ones: green's D_X for a zoom by 30 holds the
+    # red region (its round disk's black corners go there), the round disks are disjoint
+    weak = (*args[:-1], "30")
+    err = fails(None, "schottky", path, "-o", "w.png", *weak)
+    assert re.search(r"D_x of generator 1 .* and D_X of generator 2 overlap on \d+", err), err
+    ok(None, "schottky", path, "-o", "w.png", *weak, "--regions", "round")
     err = fails(None, "schottky", path, "-o", "m2.png", "--mask", "mask.png", "--target",
                 "blue", "3")  # fmt: skip
     assert "no pixel of the colour #0000ff" in err

@@ -62,6 +62,32 @@ class GeneratorType(click.ParamType):
         )
 
 
+def _output_width(kwargs: dict[str, Any], in_shape: tuple[int, ...]) -> int:
+    """The width of an equirectangular output with pixels as fine as the output's finest.
+
+    For a grid, from the angle between neighbouring pixel centres (the larger of the
+    two axes', at the smallest over a lattice of pixels).
+    """
+    grid = kwargs.get("grid")
+    if grid is None:
+        shape = kwargs.get("output_shape") or in_shape[:2]
+        return int(shape[1])
+    import numpy as np
+
+    h, w = grid.shape
+    y, x = np.meshgrid(np.linspace(0.5, h - 1.5, 17), np.linspace(0.5, w - 1.5, 17))
+    c, ok = grid.directions_at(x, y)
+    steps = []
+    for dx, dy in ((1.0, 0.0), (0.0, 1.0)):
+        n, ok2 = grid.directions_at(x, y, dx, dy)
+        steps.append(np.arccos(np.clip((c * n).sum(-1), -1.0, 1.0)))
+        ok = ok & ok2
+    step = np.maximum(*steps)[ok & (np.maximum(*steps) > 0)]
+    if step.size == 0:
+        return max(h, w)
+    return int(min(2**20, math.ceil(2 * math.pi / float(step.min()))))
+
+
 GENERATOR = GeneratorType()
 DEGREES = RealType("degrees", "30", metavar="DEG")
 
@@ -98,7 +124,7 @@ DEGREES = RealType("degrees", "30", metavar="DEG")
     "--depth",
     type=click.IntRange(1, 10000),
     help="The most reduction steps; pixels not reduced by then get the background "
-    "(default: enough for copies below a pixel at 8192 pixels across).",
+    "(default: enough for the copies left to be below a pixel of the output).",
 )
 @click.option(
     "--phase",
@@ -117,8 +143,17 @@ DEGREES = RealType("degrees", "30", metavar="DEG")
     "--mask",
     type=click.Path(dir_okay=False, path_type=Path),
     help="An equirectangular mask image, one colour per disk D_x (the paper's workflow: "
-    "the window red, the mirror green); each disk is the round disk round its colour. "
-    "Name where each goes with --target.",
+    "the window red, the mirror green; black is the fundamental region). Name where each "
+    "goes with --target; see --regions.",
+)
+@click.option(
+    "--regions",
+    type=click.Choice(["exact", "round"], case_sensitive=False),
+    default="exact",
+    show_default=True,
+    help="With --mask: 'exact' takes each disk D_x as the pixels of its colour and D_X = "
+    "X(outside of D_x) (the paper's rule); 'round' takes the smallest round disk about "
+    "each colour (faster: compiled). Each generator X is built from the round disk.",
 )
 @click.option(
     "--target",
@@ -140,6 +175,7 @@ def schottky(
     twists: tuple[float, ...],
     mask: Path | None,
     targets: tuple[tuple[str, str], ...],
+    regions: str,
     depth: int | None,
     phase: float,
     frames: int | None,
@@ -163,6 +199,11 @@ def schottky(
         raise click.UsageError("--target goes with --mask")
     if not generators and mask is None:
         raise click.UsageError("name at least one --generator (or --mask with --target)")
+    if mask is not None and generators and regions.lower() == "exact":
+        raise click.UsageError(
+            "--regions exact (the default with --mask) takes every disk from the mask: "
+            "leave out --generator, or give --regions round"
+        )
     n_pairs = sum(1 for g in generators if g[0] == "disks")
     if twists and len(twists) not in (1, n_pairs):
         raise click.UsageError(
@@ -206,9 +247,11 @@ def schottky(
         from ..maps.schottky import cap_from_mask
 
         pixels = read_image(mask, max_pixels=render.max_pixels).pixels
+        colours = []
         for colour, where in targets:
             try:
-                cap = cap_from_mask(pixels, parse_color(colour))
+                colours.append(parse_color(colour))
+                cap = cap_from_mask(pixels, colours[-1])
                 if "," in where:
                     m = generator_between(cap, Cap(*_disk(where)))
                 else:
@@ -227,6 +270,14 @@ def schottky(
     except InvalidValueError as exc:
         opts = "/".join(o for o, v in (("--generator", generators), ("--target", targets)) if v)
         raise InvalidValueError(f"{opts}: {exc}") from None
+    if mask is not None and regions.lower() == "exact":
+        from ..maps.schottky import MaskRegions
+
+        try:
+            s = s.with_mask_regions(MaskRegions(pixels, colours, path=str(mask)))
+        except InvalidValueError as exc:
+            hint = " (a larger zoom, or --regions round)" if "disjoint" in str(exc) else ""
+            raise InvalidValueError(f"--mask/--target: {exc}{hint}") from None
     if print_map:
         click.echo(s.to_json())
         return
@@ -235,6 +286,7 @@ def schottky(
 
     src_img = load_input(input, render)
     kwargs = render.warp_kwargs(src_img.pixels)
+    s = s.for_output(_output_width(kwargs, src_img.pixels.shape))
     if frames is None:
         click.echo(f"schottky: {len(gens)} generator(s), depth {s.depth}")
         save_output(warp(src_img.pixels, s, **kwargs), src_img, render, command="schottky")
