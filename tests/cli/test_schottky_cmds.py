@@ -147,3 +147,25 @@ def test_mask_workflow(pattern):
                 "blue", "3")  # fmt: skip
     assert "no pixel of the colour #0000ff" in err
     assert "--target goes with --mask" in fails(None, "schottky", path, "--target", "red", "3")
+
+
+def test_default_depth_is_sized_to_the_output(pattern):
+    """Without --depth the map is sized for the output: its width, or for a grid the width
+    of an equirect output with pixels as fine as the grid's finest."""
+    from spherewarp.cli.schottky_cmds import _output_width
+    from spherewarp.grids import Equirect, Rectilinear
+
+    assert _output_width({}, (64, 128, 3)) == 128
+    assert _output_width({"output_shape": (100, 200)}, (64, 128, 3)) == 200
+    assert abs(_output_width({"grid": Equirect((256, 512))}, (64, 128, 3)) - 512) <= 1
+    # rectilinear, 90 degrees over 256 pixels: 2 / 256 radians a pixel at the centre, finer
+    # towards the corners
+    w = _output_width({"grid": Rectilinear((256, 256), fov=90)}, (64, 128, 3))
+    assert 2 * np.pi / (2 / 256) <= w <= 4 * 2 * np.pi / (2 / 256)
+    path, _ = pattern
+    out = ok(None, "schottky", path, "-o", "d.png", "--generator", G1, "--size", "4096x2048",
+             "--antialias", "none")  # fmt: skip
+    s = Schottky.from_disk_pairs([((-163, 5, 12), (17, -5, 25))])
+    assert f"depth {s.for_output(4096).depth}" in out
+    assert f"depth {s.for_output(W).depth}" in ok(None, "schottky", path, "-o", "e.png",
+                                                   "--generator", G1)  # fmt: skip

@@ -11,7 +11,14 @@ fundamental region is the annulus between ``D_x`` and ``D_X``.
 
 The image is invariant under every generator. The reduction stops after
 ``depth`` steps; points not reduced by then (next to the limit set, a Cantor
-dust) are undefined: background or alpha 0.
+dust) are undefined: background or alpha 0. The compiled renderer runs the
+reduction as its ``schottky`` stage (:mod:`spherewarp.render.stages`).
+
+The disks are round, or (the paper's mask workflow) the exact regions of a
+mask, one colour per ``D_x`` (:class:`MaskRegions`,
+:meth:`Schottky.with_mask_regions`): then ``D_X = X(C - D_x)`` holds the
+points ``q`` with ``X^-1(q)`` outside ``D_x`` and the mask's black is the
+fundamental region (less the ``D_X``); that reduction runs on the NumPy path.
 
 Convention: points are unit-norm pairs in the default chart
 (:mod:`spherewarp.coords`); disks are ``(lon, lat, radius)`` in degrees.
