@@ -168,3 +168,59 @@ def test_static_recipe_equals_the_effect(clip, workdir):
     ok(None, "video", clip.name, "-o", "b.mp4", "--quiet", "zoom", "--at", "0,0", "--factor", "2")
     for a, b in zip(frames("a.mp4"), frames("b.mp4"), strict=True):
         assert np.array_equal(a, b) or psnr(a, b) >= 45
+
+
+def test_stereo_top_bottom_both_eyes_warped(workdir):
+    """st3d top-bottom input (two different panoramas): top-bottom output, each eye the still
+    render of that eye; --stereo tb says the same of an input without metadata."""
+    from spherewarp.io.spherical import write_spherical
+    from spherewarp.io.stereo import eyes
+    from spherewarp.maps import Mobius
+    from spherewarp.render import warp
+
+    clip = make_clip(workdir / "tb.mp4", frames=4, audio=False, stereo="top-bottom")
+    ok(None, "video", clip.name, "-o", "o.mp4", "zoom", "--at", "0,0", "--factor", "2")
+    pull = Mobius.zoom((0, 0), 2).inverse()
+    src, out = frames(clip), frames("o.mp4")
+    for a, b in zip(eyes(src[3], "tb"), eyes(out[3], "tb"), strict=True):
+        assert psnr(warp(np.ascontiguousarray(a), pull), b) >= 35
+    assert probe("o.mp4").spherical.stereo == "top-bottom"
+    write_spherical(clip, None)
+    code, _, err = run(None, "video", clip.name, "-o", "p.mp4", "rotate", "--yaw", "9")
+    assert code == 2 and one_line(err) and "not 2:1" in err and "--force" in err
+    ok(None, "video", clip.name, "-o", "p.mp4", "--stereo", "tb", "rotate", "--yaw", "9")
+    assert probe("p.mp4").spherical.stereo == "top-bottom"
+    code, _, err = run(None, "video", clip.name, "-o", "q.mp4", "--stereo", "xx", "rotate")
+    assert code == 2 and "--stereo" in err
+
+
+def test_views_from_the_command_line_and_from_a_recipe(clip, workdir):
+    """--projection (and a recipe's view) render every frame into that grid, with no
+    spherical metadata; the default size is rounded to even sides for 4:2:0."""
+    import json
+
+    from spherewarp.grids import make_grid
+    from spherewarp.maps import Mobius
+    from spherewarp.render import warp
+
+    ok(None, "video", clip.name, "-o", "r.mp4", "--projection", "rectilinear", "rotate")
+    info = probe("r.mp4")
+    assert (info.width, info.height) == (84, 64) and info.spherical is None  # default 85x64
+    step = {"zoom": {"at": [0, 0], "factor": 2}}
+    view = {"projection": "little-planet", "size": [64, 64]}
+    (workdir / "v.json").write_text(json.dumps({"spherewarp": 1, "steps": [step], "view": view}))
+    ok(None, "video", clip.name, "-o", "v.mp4", "--crf", "8", "recipe", "v.json")
+    info = probe("v.mp4")
+    assert (info.width, info.height) == (64, 64) and info.spherical is None and info.frames == 12
+    grid = make_grid("little-planet", (128, 256), shape=(64, 64))
+    expected = warp(frames(clip)[7], Mobius.zoom((0, 0), 2).inverse(), grid=grid)
+    assert psnr(expected, frames("v.mp4")[7]) >= 35
+    # the command line's grid options win over the recipe's view
+    ok(None, "video", clip.name, "-o", "w.mp4", "--size", "128x64", "--projection", "equirect",
+       "--view-at", "90,0", "recipe", "v.json")  # fmt: skip
+    info = probe("w.mp4")
+    assert (info.width, info.height) == (128, 64) and info.spherical is not None
+    code, _, err = run(None, "video", clip.name, "-o", "x.mp4", "--fov", "90", "rotate")
+    assert code == 2 and one_line(err) and "--projection" in err
+    code, _, err = run(None, "video", clip.name, "-o", "x.mp4", "--size", "85x64", "rotate")
+    assert code == 2 and one_line(err) and "even sides" in err

@@ -14,11 +14,17 @@ from typing import Any
 
 import click
 
-from ._common import POINT, example
+from ._common import POINT, SIZE, example, view_options
 from .branched_cmds import _LOOK_AT_HELP, EXP_SUPERSAMPLE, EXPONENT, POSITIVE
 from .mobius_cmds import ANGLE, FACTOR, MATRIX
 
 __all__ = ["video"]
+
+
+def _view_options(func: Any) -> Any:
+    for option in reversed(view_options):
+        func = option(func)
+    return func
 
 
 class _EffectGroup(click.Group):
@@ -69,7 +75,20 @@ class _EffectGroup(click.Group):
     help="The encoded pixel format (default: the input's when the encoder takes it, "
     "so a 10-bit input stays 10-bit; else yuv420p).",
 )
-@click.option("--force", is_flag=True, help="Warp a video whose frame is not 2:1.")
+@click.option(
+    "--stereo",
+    type=click.Choice(["tb", "sbs", "mono"], case_sensitive=False),
+    help="The input's stereo layout: tb (top-bottom, left eye on top), sbs (side by side, "
+    "left eye left) or mono (default: its metadata's, st3d or Matroska StereoMode, else "
+    "mono). Each eye is warped on its own and the output keeps the layout.",
+)
+@click.option(
+    "--size",
+    type=SIZE,
+    help="Output size WxH of each eye (default: the input eye's, or the --projection's).",
+)
+@_view_options
+@click.option("--force", is_flag=True, help="Warp a video whose frame (eye) is not 2:1.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing output.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @click.pass_context
@@ -83,6 +102,51 @@ def video(ctx: click.Context, input: Path, output: Path, **options: Any) -> None
     interrupted render leaves no file behind.
     """
     ctx.obj = {"input": input, "output": output, **options}
+
+
+#: the output grid's options, named as RenderOptions names them
+_GRID_KEYS = ("projection", "view_at", "view_roll", "fov")
+
+
+def _grid(o: dict[str, Any], view: dict[str, Any] | None) -> tuple[Any, tuple[int, int] | None]:
+    """``(grid, out_shape)`` for :func:`spherewarp.io.video.render_video`: the command line's
+    grid options, else the recipe's ``view``; a grid's default size rounded down to even sides
+    (the encoders' 4:2:0 chroma needs them)."""
+    chosen = {k: o.get(k) for k in _GRID_KEYS}
+    size = None if o.get("size") is None else (o["size"][1], o["size"][0])
+    if not any(chosen.values()) and view:
+        chosen = {
+            "projection": view.get("projection"),
+            "view_at": view.get("look_at"),
+            "view_roll": view.get("roll") or 0.0,
+            "fov": view.get("fov"),
+        }
+        if size is None and view.get("size") is not None:
+            size = (view["size"][1], view["size"][0])
+    if not any(chosen.values()):
+        return None, size
+    if chosen["fov"] is not None and chosen["projection"] is None:
+        from ..errors import InvalidValueError
+
+        raise InvalidValueError(
+            "--fov needs a --projection (little-planet, rectilinear, fisheye, ...)"
+        )
+    name = chosen["projection"] or "equirect"
+
+    def grid(eye: tuple[int, int]) -> Any:
+        from ..grids import default_shape, make_grid
+
+        shape = size
+        if shape is None:
+            h, w = default_shape(name, eye)
+            shape = (max(2, h - h % 2), max(2, w - w % 2))
+        look = chosen["view_at"]
+        return make_grid(
+            name, eye, shape=shape, look_at=None if look is None else tuple(look),
+            roll=float(chosen["view_roll"] or 0.0), fov=chosen["fov"],
+        )  # fmt: skip
+
+    return grid, None
 
 
 def _outputs(func: Any) -> Any:
@@ -101,10 +165,12 @@ def _run(
     pull: Any = None,
     build: dict[str, Any] | None = None,
     frame_map: Any = None,
+    view: dict[str, Any] | None = None,
 ) -> None:
     """Render the parent's INPUT to its -o with the map that moves the content by ``forward``
     (or pulls it back by ``pull``; ``build``: WarpMap.build's options; or ``frame_map(t)``,
-    as :func:`spherewarp.io.video.render_video` takes it)."""
+    as :func:`spherewarp.io.video.render_video` takes it); ``view``: a recipe's, used
+    unless the command line names an output grid."""
     from ..io.video import VIDEO_EXTENSIONS, render_video
     from ._files import job
 
@@ -130,6 +196,7 @@ def _run(
         def frame_map(t: float) -> tuple[Any, dict[str, Any]]:
             return inverse, build
 
+    grid, out_shape = _grid(o, view)
     bar = _Bar(enabled=not o["quiet"] and sys.stderr.isatty())
     try:
         render_video(
@@ -143,6 +210,9 @@ def _run(
             overwrite=o["overwrite"],
             force=o["force"],
             progress=bar,
+            stereo=o["stereo"],
+            grid=grid,
+            out_shape=out_shape,
         )
     finally:
         bar.close()
@@ -268,17 +338,11 @@ def video_recipe(ctx: click.Context, recipe: Path, output_: Any, overwrite_: boo
     """Apply a recipe (``--save-recipe``, see ``spherewarp render``): a timed one is evaluated
     at every frame's presentation time (a loop wraps round its duration), a static one is
     planned once for the whole video."""
-    from ..errors import InvalidValueError
     from ..recipe import Recipe
     from ._files import job
 
     job().reads(recipe, "the recipe")
     r = Recipe.load(recipe)
-    if r.at(0.0).view:
-        raise InvalidValueError(
-            f"{recipe}: a recipe's view (size, projection) is not supported for video yet; "
-            "remove its 'view' to render at the input's size"
-        )
     keys = ("interp", "antialias", "supersample")
     build = {k: v for k, v in r.at(0.0).warp_kwargs.items() if k in keys}
     if build.get("supersample") == 1:
@@ -288,4 +352,4 @@ def video_recipe(ctx: click.Context, recipe: Path, output_: Any, overwrite_: boo
     def frame_map(t: float) -> tuple[Any, dict[str, Any]]:
         return (static if static is not None else r.map_at(t)), build
 
-    _run(ctx, None, output_, overwrite_, frame_map=frame_map)
+    _run(ctx, None, output_, overwrite_, frame_map=frame_map, view=r.at(0.0).view)

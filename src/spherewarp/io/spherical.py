@@ -116,7 +116,9 @@ class Spherical:
     Attributes
     ----------
     projection : str
-        ``"equirectangular"`` (the only one written).
+        ``"equirectangular"`` (the only one written with V1/V2 spherical boxes; any
+        other value writes the stereo layout alone, ``st3d``, for a view that is
+        not a panorama).
     stereo : str
         ``"mono"``, ``"top-bottom"`` or ``"left-right"``.
     yaw, pitch, roll : float
@@ -142,6 +144,8 @@ _STEREO = {0: "mono", 1: "top-bottom", 2: "left-right"}
 def _v2_boxes(meta: Spherical) -> bytes:
     mode = {v: k for k, v in _STEREO.items()}[meta.stereo]
     st3d = box(b"st3d", _full(0, 0, bytes([mode])))
+    if meta.projection != "equirectangular":  # a stereo view that is no panorama: st3d alone
+        return st3d
     svhd = box(b"svhd", _full(0, 0, _TOOL.encode() + b"\0"))
     pose = (round(a * 65536) for a in (meta.yaw, meta.pitch, meta.roll))
     prhd = box(b"prhd", _full(0, 0, struct.pack(">iii", *pose)))
@@ -151,6 +155,8 @@ def _v2_boxes(meta: Spherical) -> bytes:
 
 
 def _v1_box(meta: Spherical) -> bytes:
+    if meta.projection != "equirectangular":
+        return b""
     stereo = {"mono": "", "top-bottom": "top-bottom", "left-right": "left-right"}[meta.stereo]
     extra = f"<GSpherical:StereoMode>{stereo}</GSpherical:StereoMode>" if stereo else ""
     xml = (

@@ -41,6 +41,7 @@ from ..errors import ImageFormatError, InvalidValueError
 from ..maps.base import SphereMap
 from .atomic import atomic_file
 from .spherical import Spherical, read_spherical, write_spherical
+from .stereo import FramePlan, eye_shape, is_panorama, parse_stereo, resolve_grid
 
 __all__ = [
     "VideoInfo",
@@ -237,12 +238,15 @@ def _quiet_stderr() -> Iterator[None]:
         os.close(saved)
 
 
-def _check_encoder(enc: Any, pix: str, options: dict[str, str], info: VideoInfo) -> None:
+def _check_encoder(
+    enc: Any, pix: str, options: dict[str, str], info: VideoInfo, size: tuple[int, int]
+) -> None:
     """Open the encoder once with its options, so a bad preset fails before anything is written."""
     import av
 
     cc = av.CodecContext.create(enc.name, "w")
-    cc.width, cc.height, cc.pix_fmt = info.width, info.height, pix
+    cc.height, cc.width = size
+    cc.pix_fmt = pix
     cc.time_base = info.time_base
     cc.framerate = info.rate or Fraction(24)
     cc.options = dict(options)
@@ -308,8 +312,11 @@ def render_video(
     pix_fmt: str | None = None,
     overwrite: bool = False,
     force: bool = False,
-    spherical: bool = True,
+    spherical: bool | Callable[[Spherical], Spherical | None] = True,
     progress: Callable[[int, int], None] | None = None,
+    stereo: str | None = None,
+    grid: Any = None,
+    out_shape: tuple[int, int] | None = None,
 ) -> VideoInfo:
     """Warp every frame of ``input`` and write ``output`` (see the module documentation).
 
@@ -329,11 +336,24 @@ def render_video(
     overwrite : bool
         Replace an existing ``output``.
     force : bool
-        Accept a frame that is not 2:1.
-    spherical : bool
-        Write equirectangular spherical metadata.
+        Accept a frame (an eye, for stereo) that is not 2:1.
+    spherical : bool or callable
+        Write spherical metadata: equirectangular (V1 and V2) with the stereo
+        layout on a panorama, the layout alone (``st3d``) on another view of a
+        stereo input, none else. A callable gets the metadata to write (the
+        layout, and the input's pose) and returns what to write instead (None:
+        nothing), e.g. the pose turned with the map.
     progress : callable, optional
         ``progress(done, total)`` after each frame (``total`` 0 when unknown).
+    stereo : {"mono", "tb", "sbs"}, optional
+        The input's stereo layout (default: its ``st3d`` metadata, else mono):
+        the map is planned for one eye and applied to each eye's half, and the
+        output keeps the layout (:class:`~spherewarp.io.stereo.FramePlan`).
+    grid : Grid or callable, optional
+        Each eye's output grid (a little planet, a flat view...), or
+        ``grid(eye_shape) -> Grid``; default: the equirectangular panorama.
+    out_shape : (height, width), optional
+        One eye's output size without a grid (default: the input's).
 
     Returns
     -------
@@ -348,18 +368,19 @@ def render_video(
     input, output = Path(input), Path(output)
     _check_output(output)
     info = probe(input)
-    if info.width != 2 * info.height and not force:
+    layout = stereo_layout(info, stereo)
+    eye_h, eye_w = eye_shape((info.height, info.width), layout)
+    if eye_w != 2 * eye_h and not force:
+        what = "" if layout == "mono" else f" each eye ({layout} stereo) is {eye_w}x{eye_h},"
         raise InvalidValueError(
-            f"'{input}' is {info.width}x{info.height}, not 2:1 (equirectangular); "
+            f"'{input}' is {info.width}x{info.height},{what} not 2:1 (equirectangular); "
             "pass --force to warp it anyway",
         )
-    if info.spherical is not None and info.spherical.stereo != "mono" and not force:
-        raise InvalidValueError(
-            f"'{input}' is stereoscopic ({info.spherical.stereo}): one map for the whole frame "
-            "would mix the two eyes; pass --force to warp it anyway (the output is marked mono)"
-        )
+    grid = resolve_grid(grid, (eye_h, eye_w))
+    size = FramePlan.output_shape((eye_h, eye_w), layout, grid, out_shape)
     enc = _encoder(codec)
     out_pix = _pick_pix_fmt(enc, info.pix_fmt, pix_fmt)
+    _check_even(size, out_pix)
     high = _depth(out_pix) > 8
     rgb = _HIGH_DEPTH_RGB if high else "rgb24"
     options: dict[str, str] = {}
@@ -371,8 +392,14 @@ def render_video(
     if enc.name == "libx265":
         options["x265-params"] = "log-level=error"
 
-    _check_encoder(enc, out_pix, options, info)
+    _check_encoder(enc, out_pix, options, info, size)
     import av
+
+    def make_plan(inverse: SphereMap, opts: dict[str, Any]) -> FramePlan:
+        return FramePlan(
+            inverse, (info.height, info.width), stereo=layout, grid=grid, out_shape=out_shape,
+            **{"force": force, **opts},
+        )  # fmt: skip
 
     with atomic_file(output, overwrite=overwrite) as tmp:
         src = _open(input)
@@ -380,17 +407,51 @@ def render_video(
             dst = av.open(str(tmp), "w", format="mov" if output.suffix.lower() == ".mov" else "mp4")
             try:
                 _transcode(
-                    src, dst, info, enc.name, out_pix, rgb, options, frame_map, progress, force
-                )
+                    src, dst, info, enc.name, out_pix, rgb, options, frame_map, progress,
+                    make_plan, size,
+                )  # fmt: skip
             finally:
                 dst.close()
         finally:
             src.close()
-        if spherical:
-            write_spherical(tmp, Spherical())
-        else:
-            write_spherical(tmp, None)
+        write_spherical(tmp, output_spherical(info, layout, grid, spherical))
     return info
+
+
+def stereo_layout(info: VideoInfo, stereo: str | None) -> str:
+    """The stereo layout to warp by: ``stereo`` when given, else the input's metadata's."""
+    if stereo is not None:
+        return parse_stereo(stereo)
+    return info.spherical.stereo if info.spherical is not None else "mono"
+
+
+def output_spherical(
+    info: VideoInfo,
+    layout: str,
+    grid: Any,
+    spherical: bool | Callable[[Spherical], Spherical | None],
+) -> Spherical | None:
+    """The spherical metadata of an output (see :func:`render_video`'s ``spherical``)."""
+    if not spherical:
+        return None
+    if not is_panorama(grid):
+        return Spherical(projection="", stereo=layout) if layout != "mono" else None
+    meta = Spherical(stereo=layout)
+    if info.spherical is not None:
+        sph = info.spherical
+        meta.yaw, meta.pitch, meta.roll = sph.yaw, sph.pitch, sph.roll
+    return spherical(meta) if callable(spherical) else Spherical(stereo=layout)
+
+
+def _check_even(size: tuple[int, int], pix: str) -> None:
+    """Refuse odd sides that ``pix``'s subsampled chroma cannot hold."""
+    h, w = size
+    both = pix.startswith(("yuv420", "yuvj420", "yuva420", "nv12", "nv21", "p010", "p016"))
+    wide = pix.startswith(("yuv422", "yuvj422", "yuva422", "nv16"))
+    if (both and (h % 2 or w % 2)) or (wide and w % 2):
+        raise InvalidValueError(
+            f"the output is {w}x{h}; {pix} needs even sides: choose a --size with even sides"
+        )
 
 
 def _transcode(
@@ -403,17 +464,16 @@ def _transcode(
     options: dict[str, str],
     frame_map: FrameMap,
     progress: Callable[[int, int], None] | None,
-    force: bool,
+    make_plan: Callable[[SphereMap, dict[str, Any]], FramePlan],
+    size: tuple[int, int],
 ) -> None:
     import av
-
-    from ..render import WarpMap
 
     vin = src.streams.video[0]
     vin.thread_type = "AUTO"
     rate = vin.average_rate or vin.guessed_rate or Fraction(24)
     vout = dst.add_stream(codec, rate=rate, options=options)
-    vout.width, vout.height = info.width, info.height
+    vout.height, vout.width = size
     vout.pix_fmt = out_pix
     vout.time_base = vin.time_base
     vout.codec_context.time_base = vin.time_base
@@ -487,10 +547,7 @@ def _transcode(
             t = float(item.pts * item.time_base) if item.pts is not None else done / rate
             inverse, opts = frame_map(t)
             if plan is None or plan[0] is not inverse:
-                plan = (
-                    inverse,
-                    WarpMap.build(inverse, (info.height, info.width), **{"force": force, **opts}),
-                )
+                plan = (inverse, make_plan(inverse, opts))
             pixels = item.to_ndarray(format=rgb)
             out = plan[1].apply(pixels)
             frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(out), format=rgb)
