@@ -224,3 +224,40 @@ def test_views_from_the_command_line_and_from_a_recipe(clip, workdir):
     assert code == 2 and one_line(err) and "--projection" in err
     code, _, err = run(None, "video", clip.name, "-o", "x.mp4", "--size", "85x64", "rotate")
     assert code == 2 and one_line(err) and "even sides" in err
+
+
+def test_image_sequences_in_and_out(clip, workdir):
+    """video IN -o 'png/%05d.png', then 'png/%05d.png' --fps 12 -o 'exr/%05d.exr' and a video."""
+    from spherewarp.io import read_image
+
+    out = ok(None, "video", clip.name, "-o", "png/%05d.png", "zoom", "--at", "0,0", "--factor", "2")
+    assert "wrote 12 frames to png/%05d.png" in out
+    assert sorted(p.name for p in (workdir / "png").iterdir()) == [
+        f"{k:05d}.png" for k in range(12)
+    ]
+    ok(None, "video", "png/%05d.png", "-o", "exr/%05d.exr", "rotate", "--yaw", "90")
+    exr = read_image(workdir / "exr" / "00011.exr").pixels
+    assert exr.dtype == np.float32 and exr.shape == (128, 256, 3)
+    ok(None, "video", "png/%05d.png", "--fps", "12", "-o", "back.mp4", "rotate", "--yaw", "90")
+    info = probe("back.mp4")
+    assert info.frames == 12 and info.rate == 12 and info.spherical is not None
+    before = sorted(p.name for p in workdir.iterdir())
+    cases = {
+        "--fps": ["video", clip.name, "--fps", "12", "-o", "f/%d.png", "rotate"],
+        "--overwrite": ["video", clip.name, "-o", "png/%05d.png", "rotate"],
+        "is the input frame": [
+            "video",
+            "png/%05d.png",
+            "-o",
+            "png/%05d.png",
+            "--overwrite",
+            "rotate",
+        ],
+        "no file matches": ["video", "none/%05d.png", "-o", "o.mp4", "rotate"],
+        "one field": ["video", clip.name, "-o", "f/%d_%d.png", "rotate"],
+        "unknown image extension": ["video", clip.name, "-o", "f/%d.gif", "rotate"],
+    }
+    for needle, args in cases.items():
+        code, _, err = run(None, *args)
+        assert code == 2 and one_line(err) and needle in err, (args, err)
+    assert sorted(p.name for p in workdir.iterdir()) == before

@@ -56,7 +56,8 @@ class _EffectGroup(click.Group):
     "-o",
     "--output",
     type=click.Path(path_type=Path, dir_okay=False),
-    help="The video to write (.mp4, .mov or .m4v); may also follow the effect.",
+    help="The video to write (.mp4, .mov or .m4v), or an image sequence (out/%05d.exr; PNG, "
+    "TIFF, EXR...); may also follow the effect.",
 )
 @click.option(
     "--codec",
@@ -88,6 +89,18 @@ class _EffectGroup(click.Group):
     help="Output size WxH of each eye (default: the input eye's, or the --projection's).",
 )
 @_view_options
+@click.option(
+    "--fps",
+    type=click.FloatRange(min=0, max=1000, min_open=True),
+    help="Frames a second of an image sequence input (default 24).",
+)
+@click.option(
+    "--tonemap",
+    type=click.Choice(["aces", "reinhard", "clip"], case_sensitive=False),
+    default="aces",
+    show_default=True,
+    help="How HDR frames of an EXR/TIFF sequence become video (or 8/16-bit image) values.",
+)
 @click.option("--force", is_flag=True, help="Warp a video whose frame (eye) is not 2:1.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing output.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
@@ -180,9 +193,20 @@ def _run(
     o["overwrite"] = o["overwrite"] or overwrite
     if o["output"] is None:
         raise click.UsageError("give the video to write with -o OUT.mp4")
-    job().reads(o["input"], "input")
-    job().writes(o["output"], "-o")
-    if o["output"].suffix.lower() not in VIDEO_EXTENSIONS:
+    from ..io.sequence import is_pattern
+
+    sequence = is_pattern(o["input"]) or is_pattern(o["output"])
+    if sequence:
+        _register_sequence(o["input"], o["output"])
+    else:
+        job().reads(o["input"], "input")
+        job().writes(o["output"], "-o")
+    if o["fps"] is not None and not is_pattern(o["input"]):
+        raise click.BadParameter(
+            "applies to an image sequence input (a video keeps its frame times)",
+            param_hint="--fps",
+        )
+    if not is_pattern(o["output"]) and o["output"].suffix.lower() not in VIDEO_EXTENSIONS:
         from ..errors import ImageFormatError
 
         raise ImageFormatError(
@@ -198,24 +222,51 @@ def _run(
 
     grid, out_shape = _grid(o, view)
     bar = _Bar(enabled=not o["quiet"] and sys.stderr.isatty())
+    options = dict(
+        codec=o["codec"], crf=o["crf"], preset=o["preset"], pix_fmt=o["pix_fmt"],
+        overwrite=o["overwrite"], force=o["force"], progress=bar, stereo=o["stereo"],
+        grid=grid, out_shape=out_shape,
+    )  # fmt: skip
     try:
-        render_video(
-            o["input"],
-            o["output"],
-            frame_map,
-            codec=o["codec"],
-            crf=o["crf"],
-            preset=o["preset"],
-            pix_fmt=o["pix_fmt"],
-            overwrite=o["overwrite"],
-            force=o["force"],
-            progress=bar,
-            stereo=o["stereo"],
-            grid=grid,
-            out_shape=out_shape,
-        )
+        if sequence:
+            from ..io.sequence import render_sequence
+
+            n = render_sequence(
+                o["input"], o["output"], frame_map, fps=o["fps"], tonemap=o["tonemap"], **options
+            )
+            bar.close()
+            click.echo(f"wrote {n} frames to {o['output']}")
+        else:
+            render_video(o["input"], o["output"], frame_map, **options)
     finally:
         bar.close()
+
+
+def _register_sequence(input: Path, output: Path) -> None:
+    """Register a sequence's frames as read (and a video as read or written), refusing an
+    output frame that would be an input frame."""
+    import os
+
+    from ..errors import InvalidValueError
+    from ..io.sequence import find_frames, frame_path, is_pattern, split_pattern
+    from ._files import job
+
+    inputs = find_frames(input) if is_pattern(input) else [job().reads(input, "input")]
+    if is_pattern(output):
+        split_pattern(output)
+        ours = {os.path.realpath(p): p for p in inputs}
+        for k in range(len(inputs) if is_pattern(input) else 1):
+            p = frame_path(output, k)
+            if os.path.realpath(p) in ours:
+                raise InvalidValueError(
+                    f"-o {str(output)!r} would write {str(p)!r}, which is the input frame "
+                    f"{str(ours[os.path.realpath(p)])!r}; choose another -o (an input is never "
+                    "overwritten, not even with --overwrite)"
+                )
+    else:
+        for p in inputs:
+            job().reads(p, "input frame")
+        job().writes(output, "-o")
 
 
 class _Bar:
