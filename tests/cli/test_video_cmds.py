@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -16,6 +17,7 @@ from spherewarp.io.video import probe
 from videoclip import make_clip
 
 av = pytest.importorskip("av")
+ffprobe = shutil.which("ffprobe")
 
 
 @pytest.fixture
@@ -261,3 +263,43 @@ def test_image_sequences_in_and_out(clip, workdir):
         code, _, err = run(None, *args)
         assert code == 2 and one_line(err) and needle in err, (args, err)
     assert sorted(p.name for p in workdir.iterdir()) == before
+
+
+def test_the_input_pose_is_carried_over(workdir):
+    """sv3d pose yaw 30: kept by a zoom, turned by a yaw (counter-clockwise: 30 - 90), and
+    left out with a note after a tilt or a branched map."""
+    from spherewarp.io.spherical import Spherical, write_spherical
+
+    clip = make_clip(workdir / "posed.mp4", frames=3, audio=False)
+    write_spherical(clip, Spherical(yaw=30.0))
+    ok(None, "video", clip.name, "-o", "z.mp4", "zoom", "--at", "10,0", "--factor", "2")
+    assert probe("z.mp4").spherical.yaw == pytest.approx(30)
+    ok(None, "video", clip.name, "-o", "y.mp4", "rotate", "--yaw", "90")
+    assert probe("y.mp4").spherical.yaw == pytest.approx(-60)
+    for name, effect in {"p.mp4": ["rotate", "--pitch", "10"], "w.mp4": ["power"]}.items():
+        code, _, err = run(None, "video", clip.name, "-o", name, *effect)
+        assert code == 0 and "pose (sv3d yaw 30, pitch 0, roll 0)" in err and "left out" in err
+        assert probe(name).spherical.yaw == 0
+    import json
+
+    yaw = {"keyframes": [[0, 0], [0.125, 90]]}
+    spin = {"spherewarp": 1, "duration": 0.125, "steps": [{"rotate": {"yaw": yaw}}]}
+    (workdir / "spin.json").write_text(json.dumps(spin))
+    code, _, err = run(None, "video", clip.name, "-o", "s.mp4", "recipe", "spin.json")
+    assert code == 0 and "left out" in err  # a turn that changes over time: no one pose holds
+    if ffprobe is None:
+        pytest.skip("ffprobe is not installed")
+    args = ["-v", "error", "-show_entries", "stream_side_data=yaw", "-of", "csv=p=0", "y.mp4"]
+    text = subprocess.run([ffprobe, *args], capture_output=True, text=True, check=True).stdout
+    assert "-60" in text
+
+
+def test_a_recipe_longer_than_the_clip_is_refused(clip, workdir):
+    import json
+
+    yaw = {"keyframes": [[0, 0], [2, 90]]}
+    spin = {"spherewarp": 1, "duration": 2, "steps": [{"rotate": {"yaw": yaw}}]}
+    (workdir / "long.json").write_text(json.dumps(spin))
+    code, _, err = run(None, "video", clip.name, "-o", "o.mp4", "recipe", "long.json")
+    assert code == 2 and one_line(err) and "runs 2 s but 'in.mp4' lasts 0.5 s" in err, err
+    assert not (workdir / "o.mp4").exists()

@@ -179,11 +179,13 @@ def _run(
     build: dict[str, Any] | None = None,
     frame_map: Any = None,
     view: dict[str, Any] | None = None,
+    pose: _Pose | None = None,
 ) -> None:
     """Render the parent's INPUT to its -o with the map that moves the content by ``forward``
     (or pulls it back by ``pull``; ``build``: WarpMap.build's options; or ``frame_map(t)``,
     as :func:`spherewarp.io.video.render_video` takes it); ``view``: a recipe's, used
-    unless the command line names an output grid."""
+    unless the command line names an output grid; ``pose``: what the input's spherical pose
+    must follow (default: ``forward``, a turn it follows; with ``pull``, none)."""
     from ..io.video import VIDEO_EXTENSIONS, render_video
     from ._files import job
 
@@ -213,6 +215,9 @@ def _run(
             f"cannot write '{o['output']}': unknown video extension "
             f"{o['output'].suffix or '(none)'!r}; use one of {', '.join(VIDEO_EXTENSIONS)} with -o"
         )
+    if pose is None:
+        pose = _Pose(o["quiet"])
+        pose.see(forward if pull is None else None)
     if frame_map is None:
         inverse = forward.inverse() if pull is None else pull
         build = build or {}
@@ -225,7 +230,7 @@ def _run(
     options = dict(
         codec=o["codec"], crf=o["crf"], preset=o["preset"], pix_fmt=o["pix_fmt"],
         overwrite=o["overwrite"], force=o["force"], progress=bar, stereo=o["stereo"],
-        grid=grid, out_shape=out_shape,
+        grid=grid, out_shape=out_shape, spherical=pose,
     )  # fmt: skip
     try:
         if sequence:
@@ -267,6 +272,52 @@ def _register_sequence(input: Path, output: Path) -> None:
         for p in inputs:
             job().reads(p, "input frame")
         job().writes(output, "-o")
+
+
+class _Pose:
+    """The output's spherical pose (``sv3d``/``prhd`` yaw, pitch, roll): the input's, turned
+    with the map as the still commands turn a GPano pose, kept when the map leaves the
+    directions in place, else dropped with a note.
+
+    :meth:`see` is told the turn of the sphere the pose must follow, once for a static map
+    or at every frame (None: no pose holds, as after a branched map); called with the
+    metadata to write, it puts the pose in (a
+    :func:`~spherewarp.io.video.render_video` ``spherical`` callable).
+    """
+
+    def __init__(self, quiet: bool) -> None:
+        self.quiet = quiet
+        self.yaws: set[float] = set()
+        self.lost = False
+
+    def see(self, moves: Any) -> None:
+        from .mobius_cmds import _view_yaw
+
+        yaw = None if moves is None else (0.0 if moves.is_identity() else _view_yaw(moves))
+        if yaw is None:
+            self.lost = True
+        else:
+            self.yaws.add(round(yaw, 9) % 360.0)
+
+    def __call__(self, meta: Any) -> Any:
+        if not (meta.yaw or meta.pitch or meta.roll):
+            return meta
+        if not self.lost and len(self.yaws) == 1:
+            (turn,) = self.yaws
+            if turn == 0.0:
+                return meta
+            if not (meta.pitch or meta.roll):  # a level pose follows a turn about the vertical
+                meta.yaw = (meta.yaw - turn + 180.0) % 360.0 - 180.0  # sv3d: counter-clockwise
+                return meta
+        if not self.quiet:
+            click.echo(
+                "spherewarp: note: the input's spherical pose (sv3d yaw "
+                f"{meta.yaw:g}, pitch {meta.pitch:g}, roll {meta.roll:g}) does not describe the "
+                "output; it is left out",
+                err=True,
+            )
+        meta.yaw = meta.pitch = meta.roll = 0.0
+        return meta
 
 
 class _Bar:
@@ -323,12 +374,12 @@ def video_zoom(
     overwrite_: bool,
 ) -> None:
     """Zoom toward a point, as the zoom command does."""
-    from ..maps import Mobius
+    from ..recipe.effects import zoom_forward
 
-    forward = Mobius.zoom(at, factor)
-    if center:
-        forward = Mobius.rotation_to(at, (0.0, 0.0)) @ forward
-    _run(ctx, forward, output_, overwrite_)
+    forward, moves = zoom_forward(at, factor, center)
+    pose = _Pose(ctx.obj["quiet"])
+    pose.see(moves)  # the zoomed point stays where the pose places it; --center turns it
+    _run(ctx, forward, output_, overwrite_, pose=pose)
 
 
 @video.command("mobius")
@@ -394,13 +445,45 @@ def video_recipe(ctx: click.Context, recipe: Path, output_: Any, overwrite_: boo
 
     job().reads(recipe, "the recipe")
     r = Recipe.load(recipe)
+    _check_recipe_fits(r, recipe, ctx.obj)
     keys = ("interp", "antialias", "supersample")
     build = {k: v for k, v in r.at(0.0).warp_kwargs.items() if k in keys}
     if build.get("supersample") == 1:
         build.pop("supersample")
     static = None if r.animated else r.map_at(0.0)
+    pose = _Pose(ctx.obj["quiet"])
+    if static is not None:
+        pose.see(r.pose_at(0.0))
 
     def frame_map(t: float) -> tuple[Any, dict[str, Any]]:
-        return (static if static is not None else r.map_at(t)), build
+        if static is not None:
+            return static, build
+        pose.see(r.pose_at(t))
+        return r.map_at(t), build
 
-    _run(ctx, None, output_, overwrite_, frame_map=frame_map, view=r.at(0.0).view)
+    _run(ctx, None, output_, overwrite_, frame_map=frame_map, view=r.at(0.0).view, pose=pose)
+
+
+def _check_recipe_fits(r: Any, path: Path, o: dict[str, Any]) -> None:
+    """Refuse a timed recipe that runs longer than the clip (its end would never be shown)."""
+    from ..errors import InvalidValueError
+    from ..io.sequence import DEFAULT_FPS, find_frames, is_pattern
+    from ..io.video import probe
+
+    if r.duration is None or not r.animated:
+        return
+    if is_pattern(o["input"]):
+        rate = o["fps"] or DEFAULT_FPS
+        seconds, step = len(find_frames(o["input"])) / rate, 1 / rate
+    else:
+        info = probe(o["input"])
+        if info.duration is None:
+            return
+        seconds, step = info.duration, 1 / float(info.rate or 24)
+    if r.duration > seconds + step / 2:
+        what = "loop" if r.loop else "recipe"
+        raise InvalidValueError(
+            f"{path}: the {what} runs {r.duration:g} s but '{o['input']}' lasts {seconds:g} s, "
+            'so its end would never be shown; shorten its "duration" (or its keyframes) '
+            "to the clip's"
+        )
