@@ -56,19 +56,19 @@ class _EffectGroup(click.Group):
     "-o",
     "--output",
     type=click.Path(path_type=Path, dir_okay=False),
-    help="The video to write (.mp4, .mov or .m4v), or an image sequence (out/%05d.exr; PNG, "
-    "TIFF, EXR...); may also follow the effect.",
+    help="The video to write (.mp4, .mov, .m4v, .mkv or .webm), or an image sequence "
+    "(out/%05d.exr; PNG, TIFF, EXR...); may also follow the effect.",
 )
 @click.option(
     "--codec",
-    default="libx264",
-    show_default=True,
-    help="The video encoder (libx264, libx265, or another this build offers).",
+    help="The video encoder (default libx264; libvpx-vp9 for .webm): libx264, libx265, "
+    "libvpx-vp9, libsvtav1, or another this build offers.",
 )
 @click.option(
     "--crf",
     type=click.FloatRange(0, 63),
-    help="Constant rate factor: lower is better and bigger (default: 18 for x264, 20 for x265).",
+    help="Constant rate factor: lower is better and bigger (default: 18 for x264, 20 for x265, "
+    "31 for VP9).",
 )
 @click.option("--preset", help="The encoder's speed preset (x264/x265: ultrafast ... veryslow).")
 @click.option(

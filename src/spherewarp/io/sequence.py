@@ -46,7 +46,6 @@ from .images import _FORMAT_DTYPES, SUPPORTED_EXTENSIONS, convert_dtype, read_im
 from .spherical import write_spherical
 from .stereo import FramePlan, eye_shape, is_panorama, parse_stereo, resolve_grid
 from .video import (
-    _DEFAULT_CRF,
     _END,
     _QUEUE,
     FrameMap,
@@ -61,6 +60,10 @@ from .video import (
     _pick_pix_fmt,
     _put,
     _Stop,
+    check_container,
+    default_codec,
+    encoder_options,
+    muxer,
     output_spherical,
     probe,
     stereo_layout,
@@ -177,7 +180,7 @@ def render_sequence(
     frame_map: FrameMap,
     *,
     fps: float | None = None,
-    codec: str = "libx264",
+    codec: str | None = None,
     crf: float | None = None,
     preset: str | None = None,
     pix_fmt: str | None = None,
@@ -325,7 +328,7 @@ def _encode_sequence(
     frame_map: FrameMap,
     make_plan: Callable[..., FramePlan],
     progress: Callable[[int, int], None] | None,
-    codec: str,
+    codec: str | None,
     crf: float | None,
     preset: str | None,
     pix_fmt: str | None,
@@ -336,24 +339,18 @@ def _encode_sequence(
     """A sequence's frames, warped, encoded into the video ``output``."""
     import av
 
-    enc = _encoder(codec)
+    enc = _encoder(default_codec(output) if codec is None else codec)
+    check_container(enc, output)
     in_pix = "yuv420p10le" if info.bit_depth > 8 else "yuv420p"
     out_pix = _pick_pix_fmt(enc, in_pix, pix_fmt)
     _check_even(size, out_pix)
     high = _depth(out_pix) > 8
     rgb, dtype = ("rgb48le", np.uint16) if high else ("rgb24", np.uint8)
-    options: dict[str, str] = {}
-    crf = _DEFAULT_CRF.get(enc.name) if crf is None else crf
-    if crf is not None:
-        options["crf"] = f"{crf:g}"
-    if preset is not None:
-        options["preset"] = preset
-    if enc.name == "libx265":
-        options["x265-params"] = "log-level=error"
+    options = encoder_options(enc, crf, preset)
     _check_encoder(enc, out_pix, options, info, size)
     rate = info.rate or Fraction(DEFAULT_FPS)
     with atomic_file(output, overwrite=overwrite) as tmp:
-        dst = av.open(str(tmp), "w", format="mov" if output.suffix.lower() == ".mov" else "mp4")
+        dst = av.open(str(tmp), "w", format=muxer(output))
         try:
             vout = dst.add_stream(enc.name, rate=rate, options=options)
             vout.height, vout.width = size

@@ -126,7 +126,7 @@ class Spherical:
     bounds : (top, bottom, left, right)
         The equirectangular projection bounds, fractions of the frame cropped off.
     versions : set of str
-        Where it was found: ``"v1"`` and/or ``"v2"``.
+        Where it was found: ``"v1"`` and/or ``"v2"``; ``"mkv"`` in a Matroska file.
     """
 
     projection: str = "equirectangular"
@@ -249,7 +249,8 @@ def _is_v1(b: bytes) -> bool:
 
 
 def write_spherical(path: str | os.PathLike[str], meta: Spherical | None = None) -> None:
-    """Put equirectangular spherical metadata (V1 and V2) on the video track of ``path``, in place.
+    """Put equirectangular spherical metadata (V1 and V2) on the video track of ``path``, in place
+    (a Matroska/WebM file gets its own elements: :mod:`spherewarp.io.matroska`).
 
     Any spherical metadata already there is replaced; ``meta=None`` removes it.
     Meant for a file just written (a temporary file, before it is put in place).
@@ -259,6 +260,11 @@ def write_spherical(path: str | os.PathLike[str], meta: Spherical | None = None)
     See ``tests/io/test_spherical.py`` (it needs an MP4 file).
     """
     path = Path(path)
+    from .matroska import is_matroska, write_matroska_spherical
+
+    if is_matroska(path):
+        write_matroska_spherical(path, meta)
+        return
     moov, pos, size, boxes = _read_moov(path)
     v2 = b"" if meta is None else _v2_boxes(meta)
     v1 = b"" if meta is None else _v1_box(meta)
@@ -315,13 +321,18 @@ def _parse_v2(entry_kids: list[Box], meta: Spherical) -> bool:
 
 
 def read_spherical(path: str | os.PathLike[str]) -> Spherical | None:
-    """The spherical metadata of ``path``'s first video track, or None when it has none.
+    """The spherical metadata of ``path``'s first video track, or None when it has none
+    (MP4/MOV boxes, or a Matroska/WebM file's elements: :mod:`spherewarp.io.matroska`).
 
     Raises
     ------
     ImageFormatError
         When ``path`` is not an MP4/MOV file.
     """
+    from .matroska import is_matroska, read_matroska_spherical
+
+    if is_matroska(path):
+        return read_matroska_spherical(path)
     moov, *_ = _read_moov(Path(path))
     for trak in parse_boxes(moov.payload):
         if trak.kind != b"trak" or not _is_video_trak(trak):

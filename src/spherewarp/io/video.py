@@ -35,11 +35,10 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from ..errors import ImageFormatError, InvalidValueError
 from ..maps.base import SphereMap
 from .atomic import atomic_file
+from .planes import frame_plan
 from .spherical import Spherical, read_spherical, write_spherical
 from .stereo import FramePlan, eye_shape, is_panorama, parse_stereo, resolve_grid
 
@@ -51,15 +50,67 @@ __all__ = [
     "VIDEO_EXTENSIONS",
 ]
 
-VIDEO_EXTENSIONS = (".mp4", ".mov", ".m4v")
+VIDEO_EXTENSIONS = (".mp4", ".mov", ".m4v", ".mkv", ".webm")
+#: the muxer of each extension (the others: mp4)
+_MUXERS = {".mov": "mov", ".mkv": "matroska", ".webm": "webm"}
+#: the video codecs a WebM file holds
+_WEBM_VIDEO = ("vp8", "vp9", "av1")
 _QUEUE = 4  # frames in flight between two stages
-_DEFAULT_CRF = {"libx264": 18, "libx265": 20}
+_DEFAULT_CRF = {"libx264": 18, "libx265": 20, "libvpx-vp9": 31, "libsvtav1": 35}
 _HIGH_DEPTH_RGB = "rgb48le"
 #: codecs copied into the output as they are (the MP4/MOV muxers take them); others are dropped
 _COPYABLE = {
     "audio": ("aac", "mp3", "ac3", "eac3", "opus", "flac", "alac", "pcm_s16le", "pcm_s24le"),
     "subtitle": ("mov_text",),
 }
+#: the same for Matroska (any audio) and WebM
+_COPYABLE_MKV = {
+    "subtitle": ("subrip", "ass", "ssa", "webvtt", "hdmv_pgs_subtitle", "dvd_subtitle")
+}
+_COPYABLE_WEBM = {"audio": ("opus", "vorbis"), "subtitle": ("webvtt",)}
+
+
+def muxer(output: Path) -> str:
+    """The FFmpeg muxer that writes ``output`` (by its extension)."""
+    return _MUXERS.get(output.suffix.lower(), "mp4")
+
+
+def _copyable(kind: str, codec: str, mux: str) -> bool:
+    if mux == "matroska":
+        return kind == "audio" or codec in _COPYABLE_MKV.get(kind, ())
+    table = _COPYABLE_WEBM if mux == "webm" else _COPYABLE
+    return codec in table.get(kind, ())
+
+
+def encoder_options(enc: Any, crf: float | None, preset: str | None) -> dict[str, str]:
+    """The encoder's options: ``crf`` (default: the codec's own, x264 18, x265 20...),
+    ``preset``, and the codec's quiet or constant-quality switches."""
+    options: dict[str, str] = {}
+    crf = _DEFAULT_CRF.get(enc.name) if crf is None else crf
+    if crf is not None:
+        options["crf"] = f"{crf:g}"
+    if preset is not None:
+        options["preset"] = preset
+    if enc.name == "libx265":
+        options["x265-params"] = "log-level=error"
+    if enc.name in ("libvpx", "libvpx-vp9"):
+        options["b"] = "0"  # constant quality: crf alone
+    return options
+
+
+def default_codec(output: Path) -> str:
+    """libx264, or libvpx-vp9 for a WebM file."""
+    return "libvpx-vp9" if muxer(output) == "webm" else "libx264"
+
+
+def check_container(enc: Any, output: Path) -> None:
+    """Refuse a video codec the output's container cannot hold (WebM: VP8, VP9, AV1)."""
+    if muxer(output) == "webm" and not any(v in enc.name for v in _WEBM_VIDEO + ("vpx",)):
+        raise InvalidValueError(
+            f"--codec {enc.name}: a WebM file holds VP8, VP9 or AV1 video; use --codec "
+            "libvpx-vp9 (or libvpx, libsvtav1), or write .mkv"
+        )
+
 
 FrameMap = Callable[[float], tuple[SphereMap, dict[str, Any]]]
 
@@ -306,7 +357,7 @@ def render_video(
     output: str | os.PathLike[str],
     frame_map: FrameMap,
     *,
-    codec: str = "libx264",
+    codec: str | None = None,
     crf: float | None = None,
     preset: str | None = None,
     pix_fmt: str | None = None,
@@ -317,20 +368,23 @@ def render_video(
     stereo: str | None = None,
     grid: Any = None,
     out_shape: tuple[int, int] | None = None,
+    planar: bool = True,
 ) -> VideoInfo:
     """Warp every frame of ``input`` and write ``output`` (see the module documentation).
 
     Parameters
     ----------
     input, output : path
-        The video to read; the MP4/MOV file to write (``.mp4``, ``.mov``, ``.m4v``).
+        The video to read; the file to write (``.mp4``, ``.mov``, ``.m4v``, or Matroska
+        ``.mkv``, WebM ``.webm``).
     frame_map : callable
         ``frame_map(t) -> (inverse_map, options)``: the map from output points
         to input points for the frame shown at ``t`` seconds, and the keyword
         arguments of :meth:`~spherewarp.render.WarpMap.build` (``interp``,
         ``antialias``...). Returning the same map object again reuses its plan.
     codec, crf, preset, pix_fmt
-        The encoder and its options; default ``libx264``, CRF 18 (x265: 20),
+        The encoder and its options; default ``libx264`` (WebM: ``libvpx-vp9``), CRF 18
+        (x265: 20, VP9: 31),
         the encoder's preset, and the input's pixel format when the encoder
         takes it (a 10-bit input stays 10-bit), else ``yuv420p``.
     overwrite : bool
@@ -354,6 +408,9 @@ def render_video(
         ``grid(eye_shape) -> Grid``; default: the equirectangular panorama.
     out_shape : (height, width), optional
         One eye's output size without a grid (default: the input's).
+    planar : bool
+        Warp a 4:2:0 frame's planes as they are when the encoder writes the
+        same pixel format (:mod:`spherewarp.io.planes`); False: always through RGB.
 
     Returns
     -------
@@ -378,33 +435,29 @@ def render_video(
         )
     grid = resolve_grid(grid, (eye_h, eye_w))
     size = FramePlan.output_shape((eye_h, eye_w), layout, grid, out_shape)
-    enc = _encoder(codec)
+    enc = _encoder(default_codec(output) if codec is None else codec)
     out_pix = _pick_pix_fmt(enc, info.pix_fmt, pix_fmt)
     _check_even(size, out_pix)
     high = _depth(out_pix) > 8
     rgb = _HIGH_DEPTH_RGB if high else "rgb24"
-    options: dict[str, str] = {}
-    crf = _DEFAULT_CRF.get(enc.name) if crf is None else crf
-    if crf is not None:
-        options["crf"] = f"{crf:g}"
-    if preset is not None:
-        options["preset"] = preset
-    if enc.name == "libx265":
-        options["x265-params"] = "log-level=error"
-
+    check_container(enc, output)
+    options = encoder_options(enc, crf, preset)
     _check_encoder(enc, out_pix, options, info, size)
     import av
 
-    def make_plan(inverse: SphereMap, opts: dict[str, Any]) -> FramePlan:
-        return FramePlan(
-            inverse, (info.height, info.width), stereo=layout, grid=grid, out_shape=out_shape,
-            **{"force": force, **opts},
-        )  # fmt: skip
+    def make_plan(inverse: SphereMap, opts: dict[str, Any], in_pix: str) -> Any:
+        def make(shape: tuple[int, int], eye_out: tuple[int, int] | None) -> FramePlan:
+            return FramePlan(
+                inverse, shape, stereo=layout, grid=grid, out_shape=eye_out or out_shape,
+                **{"force": force, **opts},
+            )  # fmt: skip
+
+        return frame_plan(make, (info.height, info.width), in_pix, out_pix, rgb, planar)
 
     with atomic_file(output, overwrite=overwrite) as tmp:
         src = _open(input)
         try:
-            dst = av.open(str(tmp), "w", format="mov" if output.suffix.lower() == ".mov" else "mp4")
+            dst = av.open(str(tmp), "w", format=muxer(output))
             try:
                 _transcode(
                     src, dst, info, enc.name, out_pix, rgb, options, frame_map, progress,
@@ -464,7 +517,7 @@ def _transcode(
     options: dict[str, str],
     frame_map: FrameMap,
     progress: Callable[[int, int], None] | None,
-    make_plan: Callable[[SphereMap, dict[str, Any]], FramePlan],
+    make_plan: Callable[[SphereMap, dict[str, Any], str], Any],
     size: tuple[int, int],
 ) -> None:
     import av
@@ -485,8 +538,9 @@ def _transcode(
         name = s.codec_context.name if s.codec_context is not None else "unknown"
         if s.type == "video":
             why = "only the first video stream is warped"
-        elif name not in _COPYABLE.get(s.type, ()):
-            why = f"an MP4/MOV file cannot hold {s.type} in {name}"
+        elif not _copyable(s.type, name, dst.format.name):
+            kind = {"matroska": "a Matroska", "webm": "a WebM"}.get(dst.format.name, "an MP4/MOV")
+            why = f"{kind} file cannot hold {s.type} in {name}"
         else:
             copies[s.index] = dst.add_stream_from_template(s)
             continue
@@ -547,10 +601,8 @@ def _transcode(
             t = float(item.pts * item.time_base) if item.pts is not None else done / rate
             inverse, opts = frame_map(t)
             if plan is None or plan[0] is not inverse:
-                plan = (inverse, make_plan(inverse, opts))
-            pixels = item.to_ndarray(format=rgb)
-            out = plan[1].apply(pixels)
-            frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(out), format=rgb)
+                plan = (inverse, make_plan(inverse, opts, item.format.name))
+            frame = plan[1].apply(item)
             frame.pts, frame.time_base = item.pts, item.time_base
             _put(warped, frame, stop)
             done += 1
