@@ -173,9 +173,8 @@ def main() -> None:
     for key, name in names.items():
         for frames in (n, 2 * n):
             t, c = runs[key, frames]
-            print(
-                f"  {name:33s} {frames:4d} frames: {frames / t:6.2f} fps ({t:6.2f} s, {c:5.1f} CPU s)"
-            )
+            fps = frames / t
+            print(f"  {name:33s} {frames:4d} frames: {fps:6.2f} fps ({t:6.2f} s, {c:5.1f} CPU s)")
     (t1, c1), (t2, c2) = runs["ours", n], runs["ours", 2 * n]
     (f1, g1), (f2, g2) = runs["v360", n], runs["v360", 2 * n]
     print(

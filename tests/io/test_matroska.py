@@ -30,7 +30,8 @@ def side_data(path):
         capture_output=True,
         text=True,
     ).stdout
-    return {d["side_data_type"]: d for d in json.loads(text)["streams"][0].get("side_data_list", [])}
+    sides = json.loads(text)["streams"][0].get("side_data_list", [])
+    return {d["side_data_type"]: d for d in sides}
 
 
 def crcs_hold(path):
