@@ -303,3 +303,34 @@ def test_a_recipe_longer_than_the_clip_is_refused(clip, workdir):
     code, _, err = run(None, "video", clip.name, "-o", "o.mp4", "recipe", "long.json")
     assert code == 2 and one_line(err) and "runs 2 s but 'in.mp4' lasts 0.5 s" in err, err
     assert not (workdir / "o.mp4").exists()
+
+
+def test_more_bad_inputs(workdir, clip):
+    """No video stream; a pixel format or codec the encoder/container does not take (the
+    choices listed); a stereo layout whose eyes are not 2:1: one line each, nothing written."""
+    from fractions import Fraction
+
+    with av.open(str(workdir / "tone.m4a"), "w") as c:
+        a = c.add_stream("aac", rate=48000)
+        a.layout = "mono"
+        f = av.AudioFrame.from_ndarray(
+            np.zeros((1, 1024), np.float32), format="fltp", layout="mono"
+        )
+        f.sample_rate, f.pts, f.time_base = 48000, 0, Fraction(1, 48000)
+        c.mux(a.encode(f))
+        c.mux(a.encode(None))
+    before = sorted(p.name for p in workdir.iterdir())
+    cases = {
+        "has no video stream": ["video", "tone.m4a", "-o", "o.mp4", "rotate"],
+        "use one of": ["video", clip.name, "-o", "o.mp4", "--pix-fmt", "rgb8", "rotate"],
+        "libvpx-vp9": ["video", clip.name, "-o", "o.webm", "--codec", "libx264", "rotate"],
+        "each eye (left-right stereo) is 128x128": [
+            "video", clip.name, "-o", "o.mp4", "--stereo", "sbs", "rotate",
+        ],
+    }  # fmt: skip
+    for needle, args in cases.items():
+        code, _, err = run(None, *args)
+        assert code == 2 and one_line(err) and needle in err, (args, err)
+    code, _, err = run(None, "video", clip.name, "-o", "o.mp4", "--codec", "nope", "rotate")
+    assert "libx265" in err and "libvpx-vp9" in err  # the encoders this build has
+    assert sorted(p.name for p in workdir.iterdir()) == before
