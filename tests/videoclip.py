@@ -84,3 +84,20 @@ def make_clip(
 
         write_spherical(path, Spherical(stereo=stereo))
     return path
+
+
+def ffprobe_side_data(path: Path) -> dict:
+    """The first video stream's side data as ffprobe (an independent parser) reads it, by type."""
+    import json
+    import shutil
+    import subprocess
+
+    text = subprocess.run(
+        [shutil.which("ffprobe") or "ffprobe", "-v", "error", "-select_streams", "v:0"]
+        + ["-show_streams", "-show_entries", "stream_side_data", "-of", "json", str(path)],
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout
+    sides = json.loads(text)["streams"][0].get("side_data_list", [])
+    return {d["side_data_type"]: d for d in sides}

@@ -2,10 +2,8 @@
 
 from __future__ import annotations
 
-import json
 import shutil
 import struct
-import subprocess
 import zlib
 
 import pytest
@@ -15,23 +13,11 @@ from spherewarp.io import matroska as mk
 from spherewarp.io.spherical import Spherical, read_spherical, write_spherical
 from spherewarp.io.video import probe, render_video
 from spherewarp.maps import Mobius
-from videoclip import make_clip
+from videoclip import ffprobe_side_data, make_clip
 
 av = pytest.importorskip("av")
 ffprobe = shutil.which("ffprobe")
 ZOOM = Mobius.zoom((0, 0), 2).inverse()
-
-
-def side_data(path):
-    text = subprocess.run(
-        [ffprobe, "-v", "error", "-select_streams", "v:0", "-show_streams"]
-        + ["-show_entries", "stream_side_data", "-of", "json", str(path)],
-        check=True,
-        capture_output=True,
-        text=True,
-    ).stdout
-    sides = json.loads(text)["streams"][0].get("side_data_list", [])
-    return {d["side_data_type"]: d for d in sides}
 
 
 def crcs_hold(path):
@@ -73,7 +59,7 @@ def test_mkv_output_is_marked_stereo_and_equirectangular(tmp_path, stereo_clip):
     assert probe(out).frames in (0, 6)
     if ffprobe is None:
         pytest.skip("ffprobe is not installed")
-    sides = side_data(out)
+    sides = ffprobe_side_data(out)
     assert sides["Stereo 3D"]["type"] == "top and bottom"
     assert sides["Spherical Mapping"]["projection"] == "equirectangular"
     assert float(sides["Spherical Mapping"]["yaw"]) == pytest.approx(12.0)

@@ -14,7 +14,7 @@ from spherewarp.errors import ImageFormatError, InvalidValueError, OutputExistsE
 from spherewarp.io.video import probe, render_video, video_encoders
 from spherewarp.maps import Mobius
 from spherewarp.render import warp
-from videoclip import RATE, SECONDS, make_clip
+from videoclip import RATE, SECONDS, ffprobe_side_data, make_clip
 
 av = pytest.importorskip("av")
 ffprobe = shutil.which("ffprobe")
@@ -190,20 +190,6 @@ def test_subtitles_copied_or_dropped_with_a_warning(tmp_path, container, codec):
             "stream #2 (subtitle, srt) is dropped: an MP4/MOV file cannot hold subtitle in srt"
         ]
     assert audio_packets(out) == audio_packets(src)
-
-
-def ffprobe_side_data(path):
-    """The video stream's side data, as ffprobe (an independent parser) reads it."""
-    text = subprocess.run(
-        [ffprobe, "-v", "error", "-select_streams", "v:0", "-show_streams"]
-        + ["-show_entries", "stream_side_data", "-of", "json", str(path)],
-        check=True,
-        capture_output=True,
-        text=True,
-    ).stdout
-    return {
-        d["side_data_type"]: d for d in json.loads(text)["streams"][0].get("side_data_list", [])
-    }
 
 
 @pytest.mark.parametrize("layout", ["top-bottom", "left-right"])

@@ -44,7 +44,7 @@ from ..errors import ImageFormatError, InvalidValueError, OutputExistsError
 from .atomic import atomic_file
 from .images import _FORMAT_DTYPES, SUPPORTED_EXTENSIONS, convert_dtype, read_image, write_image
 from .spherical import write_spherical
-from .stereo import FramePlan, eye_shape, is_panorama, parse_stereo, resolve_grid
+from .stereo import FramePlan, is_panorama
 from .video import (
     _END,
     _QUEUE,
@@ -63,10 +63,10 @@ from .video import (
     check_container,
     default_codec,
     encoder_options,
+    frame_layout,
     muxer,
     output_spherical,
     probe,
-    stereo_layout,
 )
 
 __all__ = ["find_frames", "frame_path", "is_pattern", "render_sequence", "split_pattern"]
@@ -253,15 +253,7 @@ def render_sequence(
             raise InvalidValueError(
                 "--fps applies to an image sequence input; a video keeps its frame times"
             )
-    layout = parse_stereo(stereo) if stereo is not None else stereo_layout(info, None)
-    eye_h, eye_w = eye_shape((info.height, info.width), layout)
-    if eye_w != 2 * eye_h and not force:
-        raise InvalidValueError(
-            f"'{input}' is {info.width}x{info.height}, not 2:1 (equirectangular); "
-            "pass --force to warp it anyway"
-        )
-    grid = resolve_grid(grid, (eye_h, eye_w))
-    size = FramePlan.output_shape((eye_h, eye_w), layout, grid, out_shape)
+    layout, grid, size = frame_layout(info, input, stereo, grid, out_shape, force)
     gpano = is_panorama(grid) and layout == "mono"
 
     def frames() -> Iterator[tuple[float, np.ndarray]]:

@@ -425,16 +425,7 @@ def render_video(
     input, output = Path(input), Path(output)
     _check_output(output)
     info = probe(input)
-    layout = stereo_layout(info, stereo)
-    eye_h, eye_w = eye_shape((info.height, info.width), layout)
-    if eye_w != 2 * eye_h and not force:
-        what = "" if layout == "mono" else f" each eye ({layout} stereo) is {eye_w}x{eye_h},"
-        raise InvalidValueError(
-            f"'{input}' is {info.width}x{info.height},{what} not 2:1 (equirectangular); "
-            "pass --force to warp it anyway",
-        )
-    grid = resolve_grid(grid, (eye_h, eye_w))
-    size = FramePlan.output_shape((eye_h, eye_w), layout, grid, out_shape)
+    layout, grid, size = frame_layout(info, input, stereo, grid, out_shape, force)
     enc = _encoder(default_codec(output) if codec is None else codec)
     out_pix = _pick_pix_fmt(enc, info.pix_fmt, pix_fmt)
     _check_even(size, out_pix)
@@ -469,6 +460,28 @@ def render_video(
             src.close()
         write_spherical(tmp, output_spherical(info, layout, grid, spherical))
     return info
+
+
+def frame_layout(
+    info: VideoInfo,
+    input: Path,
+    stereo: str | None,
+    grid: Any,
+    out_shape: tuple[int, int] | None,
+    force: bool,
+) -> tuple[str, Any, tuple[int, int]]:
+    """The stereo layout, the output grid (resolved for an eye) and the output frame's size;
+    refuses an eye that is not 2:1 unless ``force``."""
+    layout = stereo_layout(info, stereo)
+    eye_h, eye_w = eye_shape((info.height, info.width), layout)
+    if eye_w != 2 * eye_h and not force:
+        what = "" if layout == "mono" else f" each eye ({layout} stereo) is {eye_w}x{eye_h},"
+        raise InvalidValueError(
+            f"'{input}' is {info.width}x{info.height},{what} not 2:1 (equirectangular); "
+            "pass --force to warp it anyway",
+        )
+    grid = resolve_grid(grid, (eye_h, eye_w))
+    return layout, grid, FramePlan.output_shape((eye_h, eye_w), layout, grid, out_shape)
 
 
 def stereo_layout(info: VideoInfo, stereo: str | None) -> str:
