@@ -334,3 +334,26 @@ def test_more_bad_inputs(workdir, clip):
     code, _, err = run(None, "video", clip.name, "-o", "o.mp4", "--codec", "nope", "rotate")
     assert "libx265" in err and "libvpx-vp9" in err  # the encoders this build has
     assert sorted(p.name for p in workdir.iterdir()) == before
+
+
+def test_a_stereo_still(workdir):
+    """One image is a sequence of one frame: a top-bottom still, warped eye by eye."""
+    from spherewarp.io import read_image, write_image
+    from spherewarp.io.stereo import eyes
+    from spherewarp.maps import Mobius
+    from spherewarp.render import warp
+    from videoclip import stereo_panorama
+
+    still = stereo_panorama("top-bottom")
+    write_image(workdir / "tb.png", still, gpano=False)
+    out = ok(None, "video", "tb.png", "--stereo", "tb", "-o", "o.png", "rotate", "--yaw", "90")
+    assert out.strip() == "wrote o.png"
+    got = read_image(workdir / "o.png")
+    assert got.gpano is None  # a stereo pair is no single panorama
+    turn = Mobius.from_yaw_pitch_roll(90, 0, 0)
+    for a, b in zip(eyes(still, "tb"), eyes(got.pixels, "tb"), strict=True):
+        assert np.array_equal(warp(np.ascontiguousarray(a), turn), b)
+    make_clip(workdir / "c.mp4", frames=3, audio=False)
+    code, _, err = run(None, "video", "c.mp4", "-o", "one.png", "rotate")
+    assert code == 2 and one_line(err) and "holds one image" in err
+    assert not (workdir / "one.png").exists()

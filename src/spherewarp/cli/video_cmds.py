@@ -49,6 +49,9 @@ class _EffectGroup(click.Group):
         "spherewarp video tour.mp4 -o tour-zoomed.mp4 zoom --at 0,0 --factor 2",
         "spherewarp video tour.mp4 -o tour-right.mp4 --codec libx265 --crf 22 rotate --yaw 90",
         "spherewarp video tour.mp4 -o flight.mp4 recipe flight.json",
+        "spherewarp video stereo-tb.mp4 -o planet.mkv --projection little-planet rotate",
+        "spherewarp video 'in/%05d.png' --fps 30 -o 'out/%05d.exr' zoom --at 0,0 --factor 2",
+        "spherewarp video still-tb.jpg --stereo tb -o turned.jpg rotate --yaw 90",
     ),
 )
 @click.argument("input", type=click.Path(path_type=Path, dir_okay=False))
@@ -111,8 +114,14 @@ def video(ctx: click.Context, input: Path, output: Path, **options: Any) -> None
     Decodes and encodes with FFmpeg's libraries (PyAV). Each frame keeps its
     time (frame rate, frame count and duration are kept, variable frame rates
     too), audio is copied as it is, and the output carries the 360° metadata
-    (Spherical Video V1 and V2) that YouTube and players look for. An
-    interrupted render leaves no file behind.
+    (Spherical Video V1 and V2; Matroska's elements in .mkv/.webm) that
+    YouTube and players look for. An interrupted render leaves no file behind.
+
+    A stereo input (top-bottom or side by side: its metadata, or --stereo) is
+    warped eye by eye and keeps its layout. --projection and the other grid
+    options (or a recipe's view) render every frame into that grid. INPUT and
+    -o may be image sequences (frames/%05d.png, TIFF, EXR; --fps for an
+    input sequence), or one image (a stereo still: --stereo tb).
     """
     ctx.obj = {"input": input, "output": output, **options}
 
@@ -195,20 +204,20 @@ def _run(
     o["overwrite"] = o["overwrite"] or overwrite
     if o["output"] is None:
         raise click.UsageError("give the video to write with -o OUT.mp4")
-    from ..io.sequence import is_pattern
+    from ..io.sequence import is_frames, is_pattern
 
-    sequence = is_pattern(o["input"]) or is_pattern(o["output"])
+    sequence = is_frames(o["input"]) or is_frames(o["output"])
     if sequence:
         _register_sequence(o["input"], o["output"])
     else:
         job().reads(o["input"], "input")
         job().writes(o["output"], "-o")
-    if o["fps"] is not None and not is_pattern(o["input"]):
+    if o["fps"] is not None and not is_frames(o["input"]):
         raise click.BadParameter(
             "applies to an image sequence input (a video keeps its frame times)",
             param_hint="--fps",
         )
-    if not is_pattern(o["output"]) and o["output"].suffix.lower() not in VIDEO_EXTENSIONS:
+    if not is_frames(o["output"]) and o["output"].suffix.lower() not in VIDEO_EXTENSIONS:
         from ..errors import ImageFormatError
 
         raise ImageFormatError(
@@ -240,7 +249,8 @@ def _run(
                 o["input"], o["output"], frame_map, fps=o["fps"], tonemap=o["tonemap"], **options
             )
             bar.close()
-            click.echo(f"wrote {n} frames to {o['output']}")
+            one = n == 1 and not is_pattern(o["output"])
+            click.echo(f"wrote {o['output']}" if one else f"wrote {n} frames to {o['output']}")
         else:
             render_video(o["input"], o["output"], frame_map, **options)
     finally:
@@ -253,15 +263,16 @@ def _register_sequence(input: Path, output: Path) -> None:
     import os
 
     from ..errors import InvalidValueError
-    from ..io.sequence import find_frames, frame_path, is_pattern, split_pattern
+    from ..io.sequence import _frame_out, frames_of, is_frames, is_pattern, split_pattern
     from ._files import job
 
-    inputs = find_frames(input) if is_pattern(input) else [job().reads(input, "input")]
-    if is_pattern(output):
-        split_pattern(output)
+    inputs = frames_of(input) if is_frames(input) else [job().reads(input, "input")]
+    if is_frames(output):
+        if is_pattern(output):
+            split_pattern(output)
         ours = {os.path.realpath(p): p for p in inputs}
-        for k in range(len(inputs) if is_pattern(input) else 1):
-            p = frame_path(output, k)
+        for k in range(len(inputs) if is_pattern(output) else 1):
+            p = _frame_out(output, k)
             if os.path.realpath(p) in ours:
                 raise InvalidValueError(
                     f"-o {str(output)!r} would write {str(p)!r}, which is the input frame "
@@ -467,14 +478,16 @@ def video_recipe(ctx: click.Context, recipe: Path, output_: Any, overwrite_: boo
 def _check_recipe_fits(r: Any, path: Path, o: dict[str, Any]) -> None:
     """Refuse a timed recipe that runs longer than the clip (its end would never be shown)."""
     from ..errors import InvalidValueError
-    from ..io.sequence import DEFAULT_FPS, find_frames, is_pattern
+    from ..io.sequence import DEFAULT_FPS, frames_of, is_frames, is_pattern
     from ..io.video import probe
 
     if r.duration is None or not r.animated:
         return
-    if is_pattern(o["input"]):
+    if is_frames(o["input"]) and not is_pattern(o["input"]):
+        return  # one image: the recipe at time 0
+    if is_frames(o["input"]):
         rate = o["fps"] or DEFAULT_FPS
-        seconds, step = len(find_frames(o["input"])) / rate, 1 / rate
+        seconds, step = len(frames_of(o["input"])) / rate, 1 / rate
     else:
         info = probe(o["input"])
         if info.duration is None:

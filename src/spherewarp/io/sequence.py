@@ -69,7 +69,15 @@ from .video import (
     probe,
 )
 
-__all__ = ["find_frames", "frame_path", "is_pattern", "render_sequence", "split_pattern"]
+__all__ = [
+    "find_frames",
+    "frame_path",
+    "frames_of",
+    "is_frames",
+    "is_pattern",
+    "render_sequence",
+    "split_pattern",
+]
 
 _FIELD = re.compile(r"%(?:0([1-9]))?d|\{(?::(?:0([1-9]))?d)?\}")
 #: frames a second of a sequence input, unless given
@@ -79,6 +87,32 @@ DEFAULT_FPS = 24
 def is_pattern(path: str | os.PathLike[str]) -> bool:
     """Whether ``path`` names an image sequence (it holds a frame-number field)."""
     return _FIELD.search(os.fspath(path)) is not None
+
+
+def is_frames(path: str | os.PathLike[str]) -> bool:
+    """Whether ``path`` names images: a sequence pattern, or one image (``.png``, ``.exr``...),
+    which :func:`render_sequence` takes as a sequence of one frame (a stereo still, say)."""
+    return is_pattern(path) or Path(path).suffix.lower() in SUPPORTED_EXTENSIONS
+
+
+def frames_of(path: str | os.PathLike[str]) -> list[Path]:
+    """The files of a sequence (:func:`find_frames`), or the one image ``path``."""
+    if is_pattern(path):
+        return find_frames(path)
+    if not Path(path).is_file():
+        raise ImageFormatError(f"cannot read '{os.fspath(path)}': no such file")
+    return [Path(path)]
+
+
+def _frame_out(output: Path, k: int) -> Path:
+    if is_pattern(output):
+        return frame_path(output, k)
+    if k:
+        raise InvalidValueError(
+            f"-o '{output}' holds one image, and the input has more frames; give a pattern "
+            "such as out/%05d.png"
+        )
+    return output
 
 
 def split_pattern(pattern: str | os.PathLike[str]) -> tuple[str, int, str]:
@@ -127,13 +161,16 @@ def find_frames(pattern: str | os.PathLike[str]) -> list[Path]:
 
 
 def _check_image_output(pattern: Path, overwrite: bool) -> None:
-    split_pattern(pattern)
+    if is_pattern(pattern):
+        split_pattern(pattern)
+    elif pattern.exists() and not overwrite:
+        raise OutputExistsError(f"'{pattern}' exists; pass --overwrite to replace it")
     if pattern.suffix.lower() not in SUPPORTED_EXTENSIONS:
         raise ImageFormatError(
             f"cannot write '{pattern}': unknown image extension {pattern.suffix or '(none)'!r}; "
             f"use one of {', '.join(SUPPORTED_EXTENSIONS)}"
         )
-    if not overwrite:
+    if not overwrite and is_pattern(pattern):
         try:
             existing = find_frames(pattern)
         except ImageFormatError:
@@ -195,8 +232,9 @@ def render_sequence(
 ) -> int:
     """Warp every frame of a sequence or video ``input`` into a sequence or video ``output``.
 
-    One of the two at least is a pattern (:func:`is_pattern`); for video to
-    video, use :func:`~spherewarp.io.video.render_video` (it copies the audio).
+    One of the two at least is images (:func:`is_frames`: a pattern, or one
+    image, a sequence of one frame); for video to video, use
+    :func:`~spherewarp.io.video.render_video` (it copies the audio).
 
     Parameters
     ----------
@@ -226,10 +264,10 @@ def render_sequence(
     ImageFormatError, InvalidValueError, OutputExistsError
         For a bad input, output or option; nothing is written then.
     """
-    input_seq, output_seq = is_pattern(input), is_pattern(output)
+    input_seq, output_seq = is_frames(input), is_frames(output)
     input, output = Path(input), Path(output)
     if not (input_seq or output_seq):
-        raise InvalidValueError("render_sequence: expected an image sequence pattern in or out")
+        raise InvalidValueError("render_sequence: expected images (a pattern, an image) in or out")
     if output_seq:
         _check_image_output(output, overwrite)
     else:
@@ -237,7 +275,7 @@ def render_sequence(
     if fps is not None and not (0 < fps <= 1000):
         raise InvalidValueError(f"--fps: expected frames a second in (0, 1000], got {fps:g}")
     if input_seq:
-        files = find_frames(input)
+        files = frames_of(input)
         first = read_image(files[0])
         h, w = first.pixels.shape[:2]
         rate = Fraction(fps if fps is not None else DEFAULT_FPS).limit_denominator(1001)
@@ -254,6 +292,8 @@ def render_sequence(
                 "--fps applies to an image sequence input; a video keeps its frame times"
             )
     layout, grid, size = frame_layout(info, input, stereo, grid, out_shape, force)
+    if output_seq and info.frames > 1:
+        _frame_out(output, info.frames - 1)  # one image cannot hold them
     gpano = is_panorama(grid) and layout == "mono"
 
     def frames() -> Iterator[tuple[float, np.ndarray]]:
@@ -292,7 +332,7 @@ def render_sequence(
         written: list[Path] = []
 
         def sink(k: int, t: float, pixels: np.ndarray) -> None:
-            p = frame_path(output, k)
+            p = _frame_out(output, k)
             if k == 0:
                 p.parent.mkdir(parents=True, exist_ok=True)
             write_image(p, _for_format(pixels, p, tonemap), gpano=gpano, overwrite=overwrite)
