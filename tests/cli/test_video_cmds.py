@@ -84,7 +84,7 @@ def test_bad_inputs_one_line_nothing_written(workdir, clip):
         "no such file": ["video", "missing.mp4", "-o", "o.mp4", "rotate", "--yaw", "1"],
         "libx264": ["video", clip.name, "-o", "o.mp4", "--codec", "nope", "rotate"],
         "--force": ["video", square.name, "-o", "o.mp4", "rotate", "--yaw", "1"],
-        "unknown video extension": ["video", clip.name, "-o", "o.png", "rotate"],
+        "unknown video extension": ["video", clip.name, "-o", "o.gif", "rotate"],
         "-o": ["video", clip.name, "rotate", "--yaw", "1"],
         "--preset": ["video", clip.name, "-o", "o.mp4", "--preset", "nope", "rotate"],
     }

@@ -257,10 +257,21 @@ def _run(
         bar.close()
 
 
+def _file_key(path: Path) -> Any:
+    """What names one file whatever the path (a link, a hard link): its device and inode, or
+    its real path when it does not exist."""
+    import os
+
+    try:
+        st = os.stat(path)
+    except OSError:
+        return os.path.realpath(path)
+    return (st.st_dev, st.st_ino)
+
+
 def _register_sequence(input: Path, output: Path) -> None:
     """Register a sequence's frames as read (and a video as read or written), refusing an
     output frame that would be an input frame."""
-    import os
 
     from ..errors import InvalidValueError
     from ..io.sequence import _frame_out, frames_of, is_frames, is_pattern, split_pattern
@@ -270,14 +281,15 @@ def _register_sequence(input: Path, output: Path) -> None:
     if is_frames(output):
         if is_pattern(output):
             split_pattern(output)
-        ours = {os.path.realpath(p): p for p in inputs}
+        ours = {_file_key(p): p for p in inputs}
         for k in range(len(inputs) if is_pattern(output) else 1):
             p = _frame_out(output, k)
-            if os.path.realpath(p) in ours:
+            same = ours.get(_file_key(p))
+            if same is not None:
                 raise InvalidValueError(
                     f"-o {str(output)!r} would write {str(p)!r}, which is the input frame "
-                    f"{str(ours[os.path.realpath(p)])!r}; choose another -o (an input is never "
-                    "overwritten, not even with --overwrite)"
+                    f"{str(same)!r}; choose another -o (an input is never overwritten, not "
+                    "even with --overwrite)"
                 )
     else:
         for p in inputs:
