@@ -12,14 +12,21 @@ RATE = 24
 SECONDS = 2
 
 
-def panorama() -> np.ndarray:
-    """The bundled interior panorama at W x H."""
+def panorama(name: str = "interior.png") -> np.ndarray:
+    """A bundled panorama at W x H (``interior.png``, or ``courtyard.png``)."""
     from PIL import Image
 
     from spherewarp.demo import sample_path
 
-    with Image.open(sample_path("interior.png")) as im:
+    with Image.open(sample_path(name)) as im:
         return np.asarray(im.convert("RGB").resize((W, H), Image.LANCZOS))
+
+
+def stereo_panorama(layout: str) -> np.ndarray:
+    """Two different panoramas as the two eyes: the interior for the left eye, the courtyard
+    for the right, one above the other (``"top-bottom"``) or side by side (``"left-right"``)."""
+    left, right = panorama(), panorama("courtyard.png")
+    return np.concatenate([left, right], axis=0 if layout == "top-bottom" else 1)
 
 
 def frame(k: int) -> np.ndarray:
@@ -28,13 +35,23 @@ def frame(k: int) -> np.ndarray:
 
 
 def make_clip(
-    path: Path, *, frames: int = RATE * SECONDS, audio: bool = True, size=(W, H), pix_fmt="yuv420p"
+    path: Path,
+    *,
+    frames: int = RATE * SECONDS,
+    audio: bool = True,
+    size=(W, H),
+    pix_fmt="yuv420p",
+    stereo: str | None = None,
 ) -> Path:
-    """Write the clip (H.264 at CRF 10, AAC mono at 48 kHz) to ``path``; return ``path``."""
+    """Write the clip (H.264 at CRF 10, AAC mono at 48 kHz) to ``path``; return ``path``.
+
+    ``stereo`` ("top-bottom", "left-right"): two eyes of W x H from two different
+    panoramas (:func:`stereo_panorama`), turning together, marked with ``st3d``.
+    """
     import av
 
-    w, h = size
-    base = panorama()
+    base = panorama() if stereo is None else stereo_panorama(stereo)
+    w, h = size if stereo is None else (base.shape[1], base.shape[0])
     with av.open(str(path), "w") as c:
         v = c.add_stream("libx264", rate=RATE, options={"crf": "10"})
         v.width, v.height, v.pix_fmt = w, h, pix_fmt
@@ -44,6 +61,8 @@ def make_clip(
             a.layout = "mono"
         for k in range(frames):
             img = np.roll(base, -4 * k, axis=1)
+            if stereo == "left-right":  # each eye turns on its own
+                img = np.concatenate([np.roll(e, -4 * k, axis=1) for e in np.split(base, 2, 1)], 1)
             if (w, h) != (W, H):
                 img = np.ascontiguousarray(np.resize(img, (h, w, 3)))
             f = av.VideoFrame.from_ndarray(np.ascontiguousarray(img), format="rgb24")
@@ -60,4 +79,25 @@ def make_clip(
                 af.time_base = Fraction(1, 48000)
                 c.mux(a.encode(af))
             c.mux(a.encode(None))
+    if stereo is not None:
+        from spherewarp.io.spherical import Spherical, write_spherical
+
+        write_spherical(path, Spherical(stereo=stereo))
     return path
+
+
+def ffprobe_side_data(path: Path) -> dict:
+    """The first video stream's side data as ffprobe (an independent parser) reads it, by type."""
+    import json
+    import shutil
+    import subprocess
+
+    text = subprocess.run(
+        [shutil.which("ffprobe") or "ffprobe", "-v", "error", "-select_streams", "v:0"]
+        + ["-show_streams", "-show_entries", "stream_side_data", "-of", "json", str(path)],
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout
+    sides = json.loads(text)["streams"][0].get("side_data_list", [])
+    return {d["side_data_type"]: d for d in sides}

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -16,6 +17,7 @@ from spherewarp.io.video import probe
 from videoclip import make_clip
 
 av = pytest.importorskip("av")
+ffprobe = shutil.which("ffprobe")
 
 
 @pytest.fixture
@@ -82,7 +84,7 @@ def test_bad_inputs_one_line_nothing_written(workdir, clip):
         "no such file": ["video", "missing.mp4", "-o", "o.mp4", "rotate", "--yaw", "1"],
         "libx264": ["video", clip.name, "-o", "o.mp4", "--codec", "nope", "rotate"],
         "--force": ["video", square.name, "-o", "o.mp4", "rotate", "--yaw", "1"],
-        "unknown video extension": ["video", clip.name, "-o", "o.png", "rotate"],
+        "unknown video extension": ["video", clip.name, "-o", "o.gif", "rotate"],
         "-o": ["video", clip.name, "rotate", "--yaw", "1"],
         "--preset": ["video", clip.name, "-o", "o.mp4", "--preset", "nope", "rotate"],
     }
@@ -168,3 +170,190 @@ def test_static_recipe_equals_the_effect(clip, workdir):
     ok(None, "video", clip.name, "-o", "b.mp4", "--quiet", "zoom", "--at", "0,0", "--factor", "2")
     for a, b in zip(frames("a.mp4"), frames("b.mp4"), strict=True):
         assert np.array_equal(a, b) or psnr(a, b) >= 45
+
+
+def test_stereo_top_bottom_both_eyes_warped(workdir):
+    """st3d top-bottom input (two different panoramas): top-bottom output, each eye the still
+    render of that eye; --stereo tb says the same of an input without metadata."""
+    from spherewarp.io.spherical import write_spherical
+    from spherewarp.io.stereo import eyes
+    from spherewarp.maps import Mobius
+    from spherewarp.render import warp
+
+    clip = make_clip(workdir / "tb.mp4", frames=4, audio=False, stereo="top-bottom")
+    ok(None, "video", clip.name, "-o", "o.mp4", "zoom", "--at", "0,0", "--factor", "2")
+    pull = Mobius.zoom((0, 0), 2).inverse()
+    src, out = frames(clip), frames("o.mp4")
+    for a, b in zip(eyes(src[3], "tb"), eyes(out[3], "tb"), strict=True):
+        assert psnr(warp(np.ascontiguousarray(a), pull), b) >= 35
+    assert probe("o.mp4").spherical.stereo == "top-bottom"
+    write_spherical(clip, None)
+    code, _, err = run(None, "video", clip.name, "-o", "p.mp4", "rotate", "--yaw", "9")
+    assert code == 2 and one_line(err) and "not 2:1" in err and "--force" in err
+    ok(None, "video", clip.name, "-o", "p.mp4", "--stereo", "tb", "rotate", "--yaw", "9")
+    assert probe("p.mp4").spherical.stereo == "top-bottom"
+    code, _, err = run(None, "video", clip.name, "-o", "q.mp4", "--stereo", "xx", "rotate")
+    assert code == 2 and "--stereo" in err
+
+
+def test_views_from_the_command_line_and_from_a_recipe(clip, workdir):
+    """--projection (and a recipe's view) render every frame into that grid, with no
+    spherical metadata; the default size is rounded to even sides for 4:2:0."""
+    import json
+
+    from spherewarp.grids import make_grid
+    from spherewarp.maps import Mobius
+    from spherewarp.render import warp
+
+    ok(None, "video", clip.name, "-o", "r.mp4", "--projection", "rectilinear", "rotate")
+    info = probe("r.mp4")
+    assert (info.width, info.height) == (84, 64) and info.spherical is None  # default 85x64
+    step = {"zoom": {"at": [0, 0], "factor": 2}}
+    view = {"projection": "little-planet", "size": [64, 64]}
+    (workdir / "v.json").write_text(json.dumps({"spherewarp": 1, "steps": [step], "view": view}))
+    ok(None, "video", clip.name, "-o", "v.mp4", "--crf", "8", "recipe", "v.json")
+    info = probe("v.mp4")
+    assert (info.width, info.height) == (64, 64) and info.spherical is None and info.frames == 12
+    grid = make_grid("little-planet", (128, 256), shape=(64, 64))
+    expected = warp(frames(clip)[7], Mobius.zoom((0, 0), 2).inverse(), grid=grid)
+    assert psnr(expected, frames("v.mp4")[7]) >= 35
+    # the command line's grid options win over the recipe's view
+    ok(None, "video", clip.name, "-o", "w.mp4", "--size", "128x64", "--projection", "equirect",
+       "--view-at", "90,0", "recipe", "v.json")  # fmt: skip
+    info = probe("w.mp4")
+    assert (info.width, info.height) == (128, 64) and info.spherical is not None
+    code, _, err = run(None, "video", clip.name, "-o", "x.mp4", "--fov", "90", "rotate")
+    assert code == 2 and one_line(err) and "--projection" in err
+    code, _, err = run(None, "video", clip.name, "-o", "x.mp4", "--size", "85x64", "rotate")
+    assert code == 2 and one_line(err) and "even sides" in err
+
+
+def test_image_sequences_in_and_out(clip, workdir):
+    """video IN -o 'png/%05d.png', then 'png/%05d.png' --fps 12 -o 'exr/%05d.exr' and a video."""
+    from spherewarp.io import read_image
+
+    out = ok(None, "video", clip.name, "-o", "png/%05d.png", "zoom", "--at", "0,0", "--factor", "2")
+    assert "wrote 12 frames to png/%05d.png" in out
+    assert sorted(p.name for p in (workdir / "png").iterdir()) == [
+        f"{k:05d}.png" for k in range(12)
+    ]
+    ok(None, "video", "png/%05d.png", "-o", "exr/%05d.exr", "rotate", "--yaw", "90")
+    exr = read_image(workdir / "exr" / "00011.exr").pixels
+    assert exr.dtype == np.float32 and exr.shape == (128, 256, 3)
+    ok(None, "video", "png/%05d.png", "--fps", "12", "-o", "back.mp4", "rotate", "--yaw", "90")
+    info = probe("back.mp4")
+    assert info.frames == 12 and info.rate == 12 and info.spherical is not None
+    before = sorted(p.name for p in workdir.iterdir())
+    cases = {
+        "--fps": ["video", clip.name, "--fps", "12", "-o", "f/%d.png", "rotate"],
+        "--overwrite": ["video", clip.name, "-o", "png/%05d.png", "rotate"],
+        "is the input frame": [
+            "video",
+            "png/%05d.png",
+            "-o",
+            "png/%05d.png",
+            "--overwrite",
+            "rotate",
+        ],
+        "no file matches": ["video", "none/%05d.png", "-o", "o.mp4", "rotate"],
+        "one field": ["video", clip.name, "-o", "f/%d_%d.png", "rotate"],
+        "unknown image extension": ["video", clip.name, "-o", "f/%d.gif", "rotate"],
+    }
+    for needle, args in cases.items():
+        code, _, err = run(None, *args)
+        assert code == 2 and one_line(err) and needle in err, (args, err)
+    assert sorted(p.name for p in workdir.iterdir()) == before
+
+
+def test_the_input_pose_is_carried_over(workdir):
+    """sv3d pose yaw 30: kept by a zoom, turned by a yaw (counter-clockwise: 30 - 90), and
+    left out with a note after a tilt or a branched map."""
+    from spherewarp.io.spherical import Spherical, write_spherical
+
+    clip = make_clip(workdir / "posed.mp4", frames=3, audio=False)
+    write_spherical(clip, Spherical(yaw=30.0))
+    ok(None, "video", clip.name, "-o", "z.mp4", "zoom", "--at", "10,0", "--factor", "2")
+    assert probe("z.mp4").spherical.yaw == pytest.approx(30)
+    ok(None, "video", clip.name, "-o", "y.mp4", "rotate", "--yaw", "90")
+    assert probe("y.mp4").spherical.yaw == pytest.approx(-60)
+    for name, effect in {"p.mp4": ["rotate", "--pitch", "10"], "w.mp4": ["power"]}.items():
+        code, _, err = run(None, "video", clip.name, "-o", name, *effect)
+        assert code == 0 and "pose (sv3d yaw 30, pitch 0, roll 0)" in err and "left out" in err
+        assert probe(name).spherical.yaw == 0
+    import json
+
+    yaw = {"keyframes": [[0, 0], [0.125, 90]]}
+    spin = {"spherewarp": 1, "duration": 0.125, "steps": [{"rotate": {"yaw": yaw}}]}
+    (workdir / "spin.json").write_text(json.dumps(spin))
+    code, _, err = run(None, "video", clip.name, "-o", "s.mp4", "recipe", "spin.json")
+    assert code == 0 and "left out" in err  # a turn that changes over time: no one pose holds
+    if ffprobe is None:
+        pytest.skip("ffprobe is not installed")
+    args = ["-v", "error", "-show_entries", "stream_side_data=yaw", "-of", "csv=p=0", "y.mp4"]
+    text = subprocess.run([ffprobe, *args], capture_output=True, text=True, check=True).stdout
+    assert "-60" in text
+
+
+def test_a_recipe_longer_than_the_clip_is_refused(clip, workdir):
+    import json
+
+    yaw = {"keyframes": [[0, 0], [2, 90]]}
+    spin = {"spherewarp": 1, "duration": 2, "steps": [{"rotate": {"yaw": yaw}}]}
+    (workdir / "long.json").write_text(json.dumps(spin))
+    code, _, err = run(None, "video", clip.name, "-o", "o.mp4", "recipe", "long.json")
+    assert code == 2 and one_line(err) and "runs 2 s but 'in.mp4' lasts 0.5 s" in err, err
+    assert not (workdir / "o.mp4").exists()
+
+
+def test_more_bad_inputs(workdir, clip):
+    """No video stream; a pixel format or codec the encoder/container does not take (the
+    choices listed); a stereo layout whose eyes are not 2:1: one line each, nothing written."""
+    from fractions import Fraction
+
+    with av.open(str(workdir / "tone.m4a"), "w") as c:
+        a = c.add_stream("aac", rate=48000)
+        a.layout = "mono"
+        f = av.AudioFrame.from_ndarray(
+            np.zeros((1, 1024), np.float32), format="fltp", layout="mono"
+        )
+        f.sample_rate, f.pts, f.time_base = 48000, 0, Fraction(1, 48000)
+        c.mux(a.encode(f))
+        c.mux(a.encode(None))
+    before = sorted(p.name for p in workdir.iterdir())
+    cases = {
+        "has no video stream": ["video", "tone.m4a", "-o", "o.mp4", "rotate"],
+        "use one of": ["video", clip.name, "-o", "o.mp4", "--pix-fmt", "rgb8", "rotate"],
+        "libvpx-vp9": ["video", clip.name, "-o", "o.webm", "--codec", "libx264", "rotate"],
+        "each eye (left-right stereo) is 128x128": [
+            "video", clip.name, "-o", "o.mp4", "--stereo", "sbs", "rotate",
+        ],
+    }  # fmt: skip
+    for needle, args in cases.items():
+        code, _, err = run(None, *args)
+        assert code == 2 and one_line(err) and needle in err, (args, err)
+    code, _, err = run(None, "video", clip.name, "-o", "o.mp4", "--codec", "nope", "rotate")
+    assert "libx265" in err and "libvpx-vp9" in err  # the encoders this build has
+    assert sorted(p.name for p in workdir.iterdir()) == before
+
+
+def test_a_stereo_still(workdir):
+    """One image is a sequence of one frame: a top-bottom still, warped eye by eye."""
+    from spherewarp.io import read_image, write_image
+    from spherewarp.io.stereo import eyes
+    from spherewarp.maps import Mobius
+    from spherewarp.render import warp
+    from videoclip import stereo_panorama
+
+    still = stereo_panorama("top-bottom")
+    write_image(workdir / "tb.png", still, gpano=False)
+    out = ok(None, "video", "tb.png", "--stereo", "tb", "-o", "o.png", "rotate", "--yaw", "90")
+    assert out.strip() == "wrote o.png"
+    got = read_image(workdir / "o.png")
+    assert got.gpano is None  # a stereo pair is no single panorama
+    turn = Mobius.from_yaw_pitch_roll(90, 0, 0)
+    for a, b in zip(eyes(still, "tb"), eyes(got.pixels, "tb"), strict=True):
+        assert np.array_equal(warp(np.ascontiguousarray(a), turn), b)
+    make_clip(workdir / "c.mp4", frames=3, audio=False)
+    code, _, err = run(None, "video", "c.mp4", "-o", "one.png", "rotate")
+    assert code == 2 and one_line(err) and "holds one image" in err
+    assert not (workdir / "one.png").exists()

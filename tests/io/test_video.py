@@ -14,7 +14,7 @@ from spherewarp.errors import ImageFormatError, InvalidValueError, OutputExistsE
 from spherewarp.io.video import probe, render_video, video_encoders
 from spherewarp.maps import Mobius
 from spherewarp.render import warp
-from videoclip import RATE, SECONDS, make_clip
+from videoclip import RATE, SECONDS, ffprobe_side_data, make_clip
 
 av = pytest.importorskip("av")
 ffprobe = shutil.which("ffprobe")
@@ -192,13 +192,81 @@ def test_subtitles_copied_or_dropped_with_a_warning(tmp_path, container, codec):
     assert audio_packets(out) == audio_packets(src)
 
 
-def test_stereo_input_needs_force(tmp_path):
-    from spherewarp.io.spherical import Spherical, write_spherical
+@pytest.mark.parametrize("layout", ["top-bottom", "left-right"])
+def test_stereo_input_warps_each_eye(tmp_path, layout):
+    """Two different panoramas as the eyes: each half of each frame is the still render of
+    that half, the layout is kept and the output says so (st3d)."""
+    from spherewarp.io.stereo import eyes
 
-    clip = make_clip(tmp_path / "tb.mp4", frames=2, audio=False)
-    write_spherical(clip, Spherical(stereo="top-bottom"))
-    with pytest.raises(InvalidValueError, match="stereoscopic.*--force"):
+    clip = make_clip(tmp_path / "st.mp4", frames=6, audio=False, stereo=layout)
+    assert probe(clip).spherical.stereo == layout
+    out = tmp_path / "o.mp4"
+    render_video(clip, out, lambda t: (ZOOM, {}))
+    info = probe(out)
+    assert (info.width, info.height) == ((256, 256) if layout == "top-bottom" else (512, 128))
+    assert info.spherical.stereo == layout and info.spherical.versions == {"v1", "v2"}
+    src, dst = frames(clip), frames(out)
+    assert len(dst) == len(src) == 6
+    for k in (0, 5):
+        for a, b in zip(eyes(src[k], layout), eyes(dst[k], layout), strict=True):
+            assert psnr(warp(np.ascontiguousarray(a), ZOOM), b) >= 35, k
+        # one map over the whole frame would differ: the eyes are warped apart
+        whole = warp(src[k], ZOOM, force=True)
+        assert psnr(whole, dst[k]) < 25
+    if ffprobe is None:
+        pytest.skip("ffprobe is not installed")
+    sides = ffprobe_side_data(out)
+    assert sides["Stereo 3D"]["type"] == (
+        "top and bottom" if layout == "top-bottom" else "side by side"
+    )
+    assert sides["Spherical Mapping"]["projection"] == "equirectangular"
+
+
+def test_stereo_layout_given_overrides_the_metadata(tmp_path):
+    clip = make_clip(tmp_path / "tb.mp4", frames=2, audio=False, stereo="top-bottom")
+    from spherewarp.io.spherical import write_spherical
+
+    write_spherical(clip, None)  # no metadata: a 1:1 frame is refused as mono...
+    with pytest.raises(InvalidValueError, match="256x256, not 2:1"):
         render_video(clip, tmp_path / "o.mp4", lambda t: (ZOOM, {}))
-    assert not (tmp_path / "o.mp4").exists()
-    render_video(clip, tmp_path / "o.mp4", lambda t: (ZOOM, {}), force=True)
-    assert probe(tmp_path / "o.mp4").spherical.stereo == "mono"
+    render_video(clip, tmp_path / "o.mp4", lambda t: (ZOOM, {}), stereo="tb")  # ...not as tb
+    assert probe(tmp_path / "o.mp4").spherical.stereo == "top-bottom"
+    with pytest.raises(InvalidValueError, match="each eye .left-right stereo. is 128x256"):
+        render_video(clip, tmp_path / "p.mp4", lambda t: (ZOOM, {}), stereo="sbs")
+    assert not (tmp_path / "p.mp4").exists()
+
+
+def test_a_view_renders_each_frame_into_the_grid(tmp_path, clip):
+    """A little planet of each frame: the still render into that grid; no spherical metadata."""
+    from spherewarp.grids import make_grid
+
+    grid = make_grid("little-planet", (128, 256), shape=(96, 96))
+    out = tmp_path / "planet.mp4"
+    render_video(clip, out, lambda t: (ZOOM, {}), grid=grid)
+    info = probe(out)
+    assert (info.width, info.height) == (96, 96) and info.spherical is None
+    assert info.frames == RATE * SECONDS
+    src, dst = frames(clip), frames(out)
+    for k in (0, 30):
+        assert psnr(warp(src[k], ZOOM, grid=grid), dst[k]) >= 35, k
+    # an equirect output size of its own: a plain panorama, with metadata
+    render_video(clip, tmp_path / "small.mp4", lambda t: (ZOOM, {}), out_shape=(64, 128))
+    small = probe(tmp_path / "small.mp4")
+    assert (small.width, small.height) == (128, 64) and small.spherical is not None
+    with pytest.raises(InvalidValueError, match="even sides"):
+        render_video(clip, tmp_path / "odd.mp4", lambda t: (ZOOM, {}), out_shape=(63, 126))
+
+
+def test_a_stereo_view_says_only_its_layout(tmp_path):
+    from spherewarp.grids import make_grid
+
+    clip = make_clip(tmp_path / "tb.mp4", frames=2, audio=False, stereo="top-bottom")
+    out = tmp_path / "o.mp4"
+    grid = lambda eye: make_grid("rectilinear", eye, shape=(eye[0] // 2, eye[0] // 2))  # noqa: E731
+    render_video(clip, out, lambda t: (ZOOM, {}), grid=grid)
+    info = probe(out)
+    assert (info.width, info.height) == (64, 128) and info.spherical is None
+    if ffprobe is None:
+        pytest.skip("ffprobe is not installed")
+    sides = ffprobe_side_data(out)
+    assert sides["Stereo 3D"]["type"] == "top and bottom" and "Spherical Mapping" not in sides

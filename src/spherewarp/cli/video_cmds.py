@@ -14,11 +14,17 @@ from typing import Any
 
 import click
 
-from ._common import POINT, example
+from ._common import POINT, SIZE, example, view_options
 from .branched_cmds import _LOOK_AT_HELP, EXP_SUPERSAMPLE, EXPONENT, POSITIVE
 from .mobius_cmds import ANGLE, FACTOR, MATRIX
 
 __all__ = ["video"]
+
+
+def _view_options(func: Any) -> Any:
+    for option in reversed(view_options):
+        func = option(func)
+    return func
 
 
 class _EffectGroup(click.Group):
@@ -43,6 +49,9 @@ class _EffectGroup(click.Group):
         "spherewarp video tour.mp4 -o tour-zoomed.mp4 zoom --at 0,0 --factor 2",
         "spherewarp video tour.mp4 -o tour-right.mp4 --codec libx265 --crf 22 rotate --yaw 90",
         "spherewarp video tour.mp4 -o flight.mp4 recipe flight.json",
+        "spherewarp video stereo-tb.mp4 -o planet.mkv --projection little-planet rotate",
+        "spherewarp video 'in/%05d.png' --fps 30 -o 'out/%05d.exr' zoom --at 0,0 --factor 2",
+        "spherewarp video still-tb.jpg --stereo tb -o turned.jpg rotate --yaw 90",
     ),
 )
 @click.argument("input", type=click.Path(path_type=Path, dir_okay=False))
@@ -50,18 +59,19 @@ class _EffectGroup(click.Group):
     "-o",
     "--output",
     type=click.Path(path_type=Path, dir_okay=False),
-    help="The video to write (.mp4, .mov or .m4v); may also follow the effect.",
+    help="The video to write (.mp4, .mov, .m4v, .mkv or .webm), or an image sequence "
+    "(out/%05d.exr; PNG, TIFF, EXR...); may also follow the effect.",
 )
 @click.option(
     "--codec",
-    default="libx264",
-    show_default=True,
-    help="The video encoder (libx264, libx265, or another this build offers).",
+    help="The video encoder (default libx264; libvpx-vp9 for .webm): libx264, libx265, "
+    "libvpx-vp9, libsvtav1, or another this build offers.",
 )
 @click.option(
     "--crf",
     type=click.FloatRange(0, 63),
-    help="Constant rate factor: lower is better and bigger (default: 18 for x264, 20 for x265).",
+    help="Constant rate factor: lower is better and bigger (default: 18 for x264, 20 for x265, "
+    "31 for VP9).",
 )
 @click.option("--preset", help="The encoder's speed preset (x264/x265: ultrafast ... veryslow).")
 @click.option(
@@ -69,7 +79,32 @@ class _EffectGroup(click.Group):
     help="The encoded pixel format (default: the input's when the encoder takes it, "
     "so a 10-bit input stays 10-bit; else yuv420p).",
 )
-@click.option("--force", is_flag=True, help="Warp a video whose frame is not 2:1.")
+@click.option(
+    "--stereo",
+    type=click.Choice(["tb", "sbs", "mono"], case_sensitive=False),
+    help="The input's stereo layout: tb (top-bottom, left eye on top), sbs (side by side, "
+    "left eye left) or mono (default: its metadata's, st3d or Matroska StereoMode, else "
+    "mono). Each eye is warped on its own and the output keeps the layout.",
+)
+@click.option(
+    "--size",
+    type=SIZE,
+    help="Output size WxH of each eye (default: the input eye's, or the --projection's).",
+)
+@_view_options
+@click.option(
+    "--fps",
+    type=click.FloatRange(min=0, max=1000, min_open=True),
+    help="Frames a second of an image sequence input (default 24).",
+)
+@click.option(
+    "--tonemap",
+    type=click.Choice(["aces", "reinhard", "clip"], case_sensitive=False),
+    default="aces",
+    show_default=True,
+    help="How HDR frames of an EXR/TIFF sequence become video (or 8/16-bit image) values.",
+)
+@click.option("--force", is_flag=True, help="Warp a video whose frame (eye) is not 2:1.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing output.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @click.pass_context
@@ -79,10 +114,61 @@ def video(ctx: click.Context, input: Path, output: Path, **options: Any) -> None
     Decodes and encodes with FFmpeg's libraries (PyAV). Each frame keeps its
     time (frame rate, frame count and duration are kept, variable frame rates
     too), audio is copied as it is, and the output carries the 360° metadata
-    (Spherical Video V1 and V2) that YouTube and players look for. An
-    interrupted render leaves no file behind.
+    (Spherical Video V1 and V2; Matroska's elements in .mkv/.webm) that
+    YouTube and players look for. An interrupted render leaves no file behind.
+
+    A stereo input (top-bottom or side by side: its metadata, or --stereo) is
+    warped eye by eye and keeps its layout. --projection and the other grid
+    options (or a recipe's view) render every frame into that grid. INPUT and
+    -o may be image sequences (frames/%05d.png, TIFF, EXR; --fps for an
+    input sequence), or one image (a stereo still: --stereo tb).
     """
     ctx.obj = {"input": input, "output": output, **options}
+
+
+#: the output grid's options, named as RenderOptions names them
+_GRID_KEYS = ("projection", "view_at", "view_roll", "fov")
+
+
+def _grid(o: dict[str, Any], view: dict[str, Any] | None) -> tuple[Any, tuple[int, int] | None]:
+    """``(grid, out_shape)`` for :func:`spherewarp.io.video.render_video`: the command line's
+    grid options, else the recipe's ``view``; a grid's default size rounded down to even sides
+    (the encoders' 4:2:0 chroma needs them)."""
+    chosen = {k: o.get(k) for k in _GRID_KEYS}
+    size = None if o.get("size") is None else (o["size"][1], o["size"][0])
+    if not any(chosen.values()) and view:
+        chosen = {
+            "projection": view.get("projection"),
+            "view_at": view.get("look_at"),
+            "view_roll": view.get("roll") or 0.0,
+            "fov": view.get("fov"),
+        }
+        if size is None and view.get("size") is not None:
+            size = (view["size"][1], view["size"][0])
+    if not any(chosen.values()):
+        return None, size
+    if chosen["fov"] is not None and chosen["projection"] is None:
+        from ..errors import InvalidValueError
+
+        raise InvalidValueError(
+            "--fov needs a --projection (little-planet, rectilinear, fisheye, ...)"
+        )
+    name = chosen["projection"] or "equirect"
+
+    def grid(eye: tuple[int, int]) -> Any:
+        from ..grids import default_shape, make_grid
+
+        shape = size
+        if shape is None:
+            h, w = default_shape(name, eye)
+            shape = (max(2, h - h % 2), max(2, w - w % 2))
+        look = chosen["view_at"]
+        return make_grid(
+            name, eye, shape=shape, look_at=None if look is None else tuple(look),
+            roll=float(chosen["view_roll"] or 0.0), fov=chosen["fov"],
+        )  # fmt: skip
+
+    return grid, None
 
 
 def _outputs(func: Any) -> Any:
@@ -101,10 +187,14 @@ def _run(
     pull: Any = None,
     build: dict[str, Any] | None = None,
     frame_map: Any = None,
+    view: dict[str, Any] | None = None,
+    pose: _Pose | None = None,
 ) -> None:
     """Render the parent's INPUT to its -o with the map that moves the content by ``forward``
     (or pulls it back by ``pull``; ``build``: WarpMap.build's options; or ``frame_map(t)``,
-    as :func:`spherewarp.io.video.render_video` takes it)."""
+    as :func:`spherewarp.io.video.render_video` takes it); ``view``: a recipe's, used
+    unless the command line names an output grid; ``pose``: what the input's spherical pose
+    must follow (default: ``forward``, a turn it follows; with ``pull``, none)."""
     from ..io.video import VIDEO_EXTENSIONS, render_video
     from ._files import job
 
@@ -114,15 +204,29 @@ def _run(
     o["overwrite"] = o["overwrite"] or overwrite
     if o["output"] is None:
         raise click.UsageError("give the video to write with -o OUT.mp4")
-    job().reads(o["input"], "input")
-    job().writes(o["output"], "-o")
-    if o["output"].suffix.lower() not in VIDEO_EXTENSIONS:
+    from ..io.sequence import is_frames, is_pattern
+
+    sequence = is_frames(o["input"]) or is_frames(o["output"])
+    if sequence:
+        _register_sequence(o["input"], o["output"])
+    else:
+        job().reads(o["input"], "input")
+        job().writes(o["output"], "-o")
+    if o["fps"] is not None and not is_frames(o["input"]):
+        raise click.BadParameter(
+            "applies to an image sequence input (a video keeps its frame times)",
+            param_hint="--fps",
+        )
+    if not is_frames(o["output"]) and o["output"].suffix.lower() not in VIDEO_EXTENSIONS:
         from ..errors import ImageFormatError
 
         raise ImageFormatError(
             f"cannot write '{o['output']}': unknown video extension "
             f"{o['output'].suffix or '(none)'!r}; use one of {', '.join(VIDEO_EXTENSIONS)} with -o"
         )
+    if pose is None:
+        pose = _Pose(o["quiet"])
+        pose.see(forward if pull is None else None)
     if frame_map is None:
         inverse = forward.inverse() if pull is None else pull
         build = build or {}
@@ -130,22 +234,113 @@ def _run(
         def frame_map(t: float) -> tuple[Any, dict[str, Any]]:
             return inverse, build
 
+    grid, out_shape = _grid(o, view)
     bar = _Bar(enabled=not o["quiet"] and sys.stderr.isatty())
+    options = dict(
+        codec=o["codec"], crf=o["crf"], preset=o["preset"], pix_fmt=o["pix_fmt"],
+        overwrite=o["overwrite"], force=o["force"], progress=bar, stereo=o["stereo"],
+        grid=grid, out_shape=out_shape, spherical=pose,
+    )  # fmt: skip
     try:
-        render_video(
-            o["input"],
-            o["output"],
-            frame_map,
-            codec=o["codec"],
-            crf=o["crf"],
-            preset=o["preset"],
-            pix_fmt=o["pix_fmt"],
-            overwrite=o["overwrite"],
-            force=o["force"],
-            progress=bar,
-        )
+        if sequence:
+            from ..io.sequence import render_sequence
+
+            n = render_sequence(
+                o["input"], o["output"], frame_map, fps=o["fps"], tonemap=o["tonemap"], **options
+            )
+            bar.close()
+            one = n == 1 and not is_pattern(o["output"])
+            click.echo(f"wrote {o['output']}" if one else f"wrote {n} frames to {o['output']}")
+        else:
+            render_video(o["input"], o["output"], frame_map, **options)
     finally:
         bar.close()
+
+
+def _file_key(path: Path) -> Any:
+    """What names one file whatever the path (a link, a hard link): its device and inode, or
+    its real path when it does not exist."""
+    import os
+
+    try:
+        st = os.stat(path)
+    except OSError:
+        return os.path.realpath(path)
+    return (st.st_dev, st.st_ino)
+
+
+def _register_sequence(input: Path, output: Path) -> None:
+    """Register a sequence's frames as read (and a video as read or written), refusing an
+    output frame that would be an input frame."""
+
+    from ..errors import InvalidValueError
+    from ..io.sequence import _frame_out, frames_of, is_frames, is_pattern, split_pattern
+    from ._files import job
+
+    inputs = frames_of(input) if is_frames(input) else [job().reads(input, "input")]
+    if is_frames(output):
+        if is_pattern(output):
+            split_pattern(output)
+        ours = {_file_key(p): p for p in inputs}
+        for k in range(len(inputs) if is_pattern(output) else 1):
+            p = _frame_out(output, k)
+            same = ours.get(_file_key(p))
+            if same is not None:
+                raise InvalidValueError(
+                    f"-o {str(output)!r} would write {str(p)!r}, which is the input frame "
+                    f"{str(same)!r}; choose another -o (an input is never overwritten, not "
+                    "even with --overwrite)"
+                )
+    else:
+        for p in inputs:
+            job().reads(p, "input frame")
+        job().writes(output, "-o")
+
+
+class _Pose:
+    """The output's spherical pose (``sv3d``/``prhd`` yaw, pitch, roll): the input's, turned
+    with the map as the still commands turn a GPano pose, kept when the map leaves the
+    directions in place, else dropped with a note.
+
+    :meth:`see` is told the turn of the sphere the pose must follow, once for a static map
+    or at every frame (None: no pose holds, as after a branched map); called with the
+    metadata to write, it puts the pose in (a
+    :func:`~spherewarp.io.video.render_video` ``spherical`` callable).
+    """
+
+    def __init__(self, quiet: bool) -> None:
+        self.quiet = quiet
+        self.yaws: set[float] = set()
+        self.lost = False
+
+    def see(self, moves: Any) -> None:
+        from .mobius_cmds import _view_yaw
+
+        yaw = None if moves is None else (0.0 if moves.is_identity() else _view_yaw(moves))
+        if yaw is None:
+            self.lost = True
+        else:
+            self.yaws.add(round(yaw, 9) % 360.0)
+
+    def __call__(self, meta: Any) -> Any:
+        if not (meta.yaw or meta.pitch or meta.roll):
+            return meta
+        if not self.lost and len(self.yaws) == 1:
+            (turn,) = self.yaws
+            if turn == 0.0:
+                return meta
+            if not (meta.pitch or meta.roll):  # a level pose follows a turn about the vertical
+                meta.yaw = (meta.yaw - turn + 180.0) % 360.0 - 180.0  # sv3d: counter-clockwise
+                return meta
+        if not self.quiet:
+            click.echo(
+                "spherewarp: note: the input's spherical pose (sv3d yaw "
+                f"{meta.yaw:g}, pitch {meta.pitch:g}, roll {meta.roll:g}) does not describe the "
+                "output; it is left out",
+                err=True,
+            )
+        meta.yaw = meta.pitch = meta.roll = 0.0
+        return meta
 
 
 class _Bar:
@@ -202,12 +397,12 @@ def video_zoom(
     overwrite_: bool,
 ) -> None:
     """Zoom toward a point, as the zoom command does."""
-    from ..maps import Mobius
+    from ..recipe.effects import zoom_forward
 
-    forward = Mobius.zoom(at, factor)
-    if center:
-        forward = Mobius.rotation_to(at, (0.0, 0.0)) @ forward
-    _run(ctx, forward, output_, overwrite_)
+    forward, moves = zoom_forward(at, factor, center)
+    pose = _Pose(ctx.obj["quiet"])
+    pose.see(moves)  # the zoomed point stays where the pose places it; --center turns it
+    _run(ctx, forward, output_, overwrite_, pose=pose)
 
 
 @video.command("mobius")
@@ -268,24 +463,52 @@ def video_recipe(ctx: click.Context, recipe: Path, output_: Any, overwrite_: boo
     """Apply a recipe (``--save-recipe``, see ``spherewarp render``): a timed one is evaluated
     at every frame's presentation time (a loop wraps round its duration), a static one is
     planned once for the whole video."""
-    from ..errors import InvalidValueError
     from ..recipe import Recipe
     from ._files import job
 
     job().reads(recipe, "the recipe")
     r = Recipe.load(recipe)
-    if r.at(0.0).view:
-        raise InvalidValueError(
-            f"{recipe}: a recipe's view (size, projection) is not supported for video yet; "
-            "remove its 'view' to render at the input's size"
-        )
+    _check_recipe_fits(r, recipe, ctx.obj)
     keys = ("interp", "antialias", "supersample")
     build = {k: v for k, v in r.at(0.0).warp_kwargs.items() if k in keys}
     if build.get("supersample") == 1:
         build.pop("supersample")
     static = None if r.animated else r.map_at(0.0)
+    pose = _Pose(ctx.obj["quiet"])
+    if static is not None:
+        pose.see(r.pose_at(0.0))
 
     def frame_map(t: float) -> tuple[Any, dict[str, Any]]:
-        return (static if static is not None else r.map_at(t)), build
+        if static is not None:
+            return static, build
+        pose.see(r.pose_at(t))
+        return r.map_at(t), build
 
-    _run(ctx, None, output_, overwrite_, frame_map=frame_map)
+    _run(ctx, None, output_, overwrite_, frame_map=frame_map, view=r.at(0.0).view, pose=pose)
+
+
+def _check_recipe_fits(r: Any, path: Path, o: dict[str, Any]) -> None:
+    """Refuse a timed recipe that runs longer than the clip (its end would never be shown)."""
+    from ..errors import InvalidValueError
+    from ..io.sequence import DEFAULT_FPS, frames_of, is_frames, is_pattern
+    from ..io.video import probe
+
+    if r.duration is None or not r.animated:
+        return
+    if is_frames(o["input"]) and not is_pattern(o["input"]):
+        return  # one image: the recipe at time 0
+    if is_frames(o["input"]):
+        rate = o["fps"] or DEFAULT_FPS
+        seconds, step = len(frames_of(o["input"])) / rate, 1 / rate
+    else:
+        info = probe(o["input"])
+        if info.duration is None:
+            return
+        seconds, step = info.duration, 1 / float(info.rate or 24)
+    if r.duration > seconds + step / 2:
+        what = "loop" if r.loop else "recipe"
+        raise InvalidValueError(
+            f"{path}: the {what} runs {r.duration:g} s but '{o['input']}' lasts {seconds:g} s, "
+            'so its end would never be shown; shorten its "duration" (or its keyframes) '
+            "to the clip's"
+        )

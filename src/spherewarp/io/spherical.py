@@ -116,7 +116,9 @@ class Spherical:
     Attributes
     ----------
     projection : str
-        ``"equirectangular"`` (the only one written).
+        ``"equirectangular"`` (the only one written with V1/V2 spherical boxes; any
+        other value writes the stereo layout alone, ``st3d``, for a view that is
+        not a panorama).
     stereo : str
         ``"mono"``, ``"top-bottom"`` or ``"left-right"``.
     yaw, pitch, roll : float
@@ -124,7 +126,7 @@ class Spherical:
     bounds : (top, bottom, left, right)
         The equirectangular projection bounds, fractions of the frame cropped off.
     versions : set of str
-        Where it was found: ``"v1"`` and/or ``"v2"``.
+        Where it was found: ``"v1"`` and/or ``"v2"``; ``"mkv"`` in a Matroska file.
     """
 
     projection: str = "equirectangular"
@@ -142,6 +144,8 @@ _STEREO = {0: "mono", 1: "top-bottom", 2: "left-right"}
 def _v2_boxes(meta: Spherical) -> bytes:
     mode = {v: k for k, v in _STEREO.items()}[meta.stereo]
     st3d = box(b"st3d", _full(0, 0, bytes([mode])))
+    if meta.projection != "equirectangular":  # a stereo view that is no panorama: st3d alone
+        return st3d
     svhd = box(b"svhd", _full(0, 0, _TOOL.encode() + b"\0"))
     pose = (round(a * 65536) for a in (meta.yaw, meta.pitch, meta.roll))
     prhd = box(b"prhd", _full(0, 0, struct.pack(">iii", *pose)))
@@ -151,6 +155,8 @@ def _v2_boxes(meta: Spherical) -> bytes:
 
 
 def _v1_box(meta: Spherical) -> bytes:
+    if meta.projection != "equirectangular":
+        return b""
     stereo = {"mono": "", "top-bottom": "top-bottom", "left-right": "left-right"}[meta.stereo]
     extra = f"<GSpherical:StereoMode>{stereo}</GSpherical:StereoMode>" if stereo else ""
     xml = (
@@ -243,7 +249,8 @@ def _is_v1(b: bytes) -> bool:
 
 
 def write_spherical(path: str | os.PathLike[str], meta: Spherical | None = None) -> None:
-    """Put equirectangular spherical metadata (V1 and V2) on the video track of ``path``, in place.
+    """Put equirectangular spherical metadata (V1 and V2) on the video track of ``path``, in place
+    (a Matroska/WebM file gets its own elements: :mod:`spherewarp.io.matroska`).
 
     Any spherical metadata already there is replaced; ``meta=None`` removes it.
     Meant for a file just written (a temporary file, before it is put in place).
@@ -253,6 +260,11 @@ def write_spherical(path: str | os.PathLike[str], meta: Spherical | None = None)
     See ``tests/io/test_spherical.py`` (it needs an MP4 file).
     """
     path = Path(path)
+    from .matroska import is_matroska, write_matroska_spherical
+
+    if is_matroska(path):
+        write_matroska_spherical(path, meta)
+        return
     moov, pos, size, boxes = _read_moov(path)
     v2 = b"" if meta is None else _v2_boxes(meta)
     v1 = b"" if meta is None else _v1_box(meta)
@@ -309,13 +321,18 @@ def _parse_v2(entry_kids: list[Box], meta: Spherical) -> bool:
 
 
 def read_spherical(path: str | os.PathLike[str]) -> Spherical | None:
-    """The spherical metadata of ``path``'s first video track, or None when it has none.
+    """The spherical metadata of ``path``'s first video track, or None when it has none
+    (MP4/MOV boxes, or a Matroska/WebM file's elements: :mod:`spherewarp.io.matroska`).
 
     Raises
     ------
     ImageFormatError
         When ``path`` is not an MP4/MOV file.
     """
+    from .matroska import is_matroska, read_matroska_spherical
+
+    if is_matroska(path):
+        return read_matroska_spherical(path)
     moov, *_ = _read_moov(Path(path))
     for trak in parse_boxes(moov.payload):
         if trak.kind != b"trak" or not _is_video_trak(trak):

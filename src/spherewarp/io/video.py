@@ -35,12 +35,12 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from ..errors import ImageFormatError, InvalidValueError
 from ..maps.base import SphereMap
 from .atomic import atomic_file
+from .planes import frame_plan
 from .spherical import Spherical, read_spherical, write_spherical
+from .stereo import FramePlan, eye_shape, is_panorama, parse_stereo, resolve_grid
 
 __all__ = [
     "VideoInfo",
@@ -50,15 +50,67 @@ __all__ = [
     "VIDEO_EXTENSIONS",
 ]
 
-VIDEO_EXTENSIONS = (".mp4", ".mov", ".m4v")
+VIDEO_EXTENSIONS = (".mp4", ".mov", ".m4v", ".mkv", ".webm")
+#: the muxer of each extension (the others: mp4)
+_MUXERS = {".mov": "mov", ".mkv": "matroska", ".webm": "webm"}
+#: the video codecs a WebM file holds
+_WEBM_VIDEO = ("vp8", "vp9", "av1")
 _QUEUE = 4  # frames in flight between two stages
-_DEFAULT_CRF = {"libx264": 18, "libx265": 20}
+_DEFAULT_CRF = {"libx264": 18, "libx265": 20, "libvpx-vp9": 31, "libsvtav1": 35}
 _HIGH_DEPTH_RGB = "rgb48le"
 #: codecs copied into the output as they are (the MP4/MOV muxers take them); others are dropped
 _COPYABLE = {
     "audio": ("aac", "mp3", "ac3", "eac3", "opus", "flac", "alac", "pcm_s16le", "pcm_s24le"),
     "subtitle": ("mov_text",),
 }
+#: the same for Matroska (any audio) and WebM
+_COPYABLE_MKV = {
+    "subtitle": ("subrip", "ass", "ssa", "webvtt", "hdmv_pgs_subtitle", "dvd_subtitle")
+}
+_COPYABLE_WEBM = {"audio": ("opus", "vorbis"), "subtitle": ("webvtt",)}
+
+
+def muxer(output: Path) -> str:
+    """The FFmpeg muxer that writes ``output`` (by its extension)."""
+    return _MUXERS.get(output.suffix.lower(), "mp4")
+
+
+def _copyable(kind: str, codec: str, mux: str) -> bool:
+    if mux == "matroska":
+        return kind == "audio" or codec in _COPYABLE_MKV.get(kind, ())
+    table = _COPYABLE_WEBM if mux == "webm" else _COPYABLE
+    return codec in table.get(kind, ())
+
+
+def encoder_options(enc: Any, crf: float | None, preset: str | None) -> dict[str, str]:
+    """The encoder's options: ``crf`` (default: the codec's own, x264 18, x265 20...),
+    ``preset``, and the codec's quiet or constant-quality switches."""
+    options: dict[str, str] = {}
+    crf = _DEFAULT_CRF.get(enc.name) if crf is None else crf
+    if crf is not None:
+        options["crf"] = f"{crf:g}"
+    if preset is not None:
+        options["preset"] = preset
+    if enc.name == "libx265":
+        options["x265-params"] = "log-level=error"
+    if enc.name in ("libvpx", "libvpx-vp9"):
+        options["b"] = "0"  # constant quality: crf alone
+    return options
+
+
+def default_codec(output: Path) -> str:
+    """libx264, or libvpx-vp9 for a WebM file."""
+    return "libvpx-vp9" if muxer(output) == "webm" else "libx264"
+
+
+def check_container(enc: Any, output: Path) -> None:
+    """Refuse a video codec the output's container cannot hold (WebM: VP8, VP9, AV1)."""
+    if muxer(output) == "webm" and not any(v in enc.name for v in _WEBM_VIDEO + ("vpx",)):
+        raise InvalidValueError(
+            f"--codec {enc.name}: a WebM file holds VP8, VP9 or AV1 video; use --codec "
+            "libvpx-vp9 (or libvpx, libsvtav1), or write .mkv"
+        )
+
 
 FrameMap = Callable[[float], tuple[SphereMap, dict[str, Any]]]
 
@@ -237,12 +289,15 @@ def _quiet_stderr() -> Iterator[None]:
         os.close(saved)
 
 
-def _check_encoder(enc: Any, pix: str, options: dict[str, str], info: VideoInfo) -> None:
+def _check_encoder(
+    enc: Any, pix: str, options: dict[str, str], info: VideoInfo, size: tuple[int, int]
+) -> None:
     """Open the encoder once with its options, so a bad preset fails before anything is written."""
     import av
 
     cc = av.CodecContext.create(enc.name, "w")
-    cc.width, cc.height, cc.pix_fmt = info.width, info.height, pix
+    cc.height, cc.width = size
+    cc.pix_fmt = pix
     cc.time_base = info.time_base
     cc.framerate = info.rate or Fraction(24)
     cc.options = dict(options)
@@ -302,38 +357,60 @@ def render_video(
     output: str | os.PathLike[str],
     frame_map: FrameMap,
     *,
-    codec: str = "libx264",
+    codec: str | None = None,
     crf: float | None = None,
     preset: str | None = None,
     pix_fmt: str | None = None,
     overwrite: bool = False,
     force: bool = False,
-    spherical: bool = True,
+    spherical: bool | Callable[[Spherical], Spherical | None] = True,
     progress: Callable[[int, int], None] | None = None,
+    stereo: str | None = None,
+    grid: Any = None,
+    out_shape: tuple[int, int] | None = None,
+    planar: bool = True,
 ) -> VideoInfo:
     """Warp every frame of ``input`` and write ``output`` (see the module documentation).
 
     Parameters
     ----------
     input, output : path
-        The video to read; the MP4/MOV file to write (``.mp4``, ``.mov``, ``.m4v``).
+        The video to read; the file to write (``.mp4``, ``.mov``, ``.m4v``, or Matroska
+        ``.mkv``, WebM ``.webm``).
     frame_map : callable
         ``frame_map(t) -> (inverse_map, options)``: the map from output points
         to input points for the frame shown at ``t`` seconds, and the keyword
         arguments of :meth:`~spherewarp.render.WarpMap.build` (``interp``,
         ``antialias``...). Returning the same map object again reuses its plan.
     codec, crf, preset, pix_fmt
-        The encoder and its options; default ``libx264``, CRF 18 (x265: 20),
+        The encoder and its options; default ``libx264`` (WebM: ``libvpx-vp9``), CRF 18
+        (x265: 20, VP9: 31),
         the encoder's preset, and the input's pixel format when the encoder
         takes it (a 10-bit input stays 10-bit), else ``yuv420p``.
     overwrite : bool
         Replace an existing ``output``.
     force : bool
-        Accept a frame that is not 2:1.
-    spherical : bool
-        Write equirectangular spherical metadata.
+        Accept a frame (an eye, for stereo) that is not 2:1.
+    spherical : bool or callable
+        Write spherical metadata: equirectangular (V1 and V2) with the stereo
+        layout on a panorama, the layout alone (``st3d``) on another view of a
+        stereo input, none else. A callable gets the metadata to write (the
+        layout, and the input's pose) and returns what to write instead (None:
+        nothing), e.g. the pose turned with the map.
     progress : callable, optional
         ``progress(done, total)`` after each frame (``total`` 0 when unknown).
+    stereo : {"mono", "tb", "sbs"}, optional
+        The input's stereo layout (default: its ``st3d`` metadata, else mono):
+        the map is planned for one eye and applied to each eye's half, and the
+        output keeps the layout (:class:`~spherewarp.io.stereo.FramePlan`).
+    grid : Grid or callable, optional
+        Each eye's output grid (a little planet, a flat view...), or
+        ``grid(eye_shape) -> Grid``; default: the equirectangular panorama.
+    out_shape : (height, width), optional
+        One eye's output size without a grid (default: the input's).
+    planar : bool
+        Warp a 4:2:0 frame's planes as they are when the encoder writes the
+        same pixel format (:mod:`spherewarp.io.planes`); False: always through RGB.
 
     Returns
     -------
@@ -348,49 +425,99 @@ def render_video(
     input, output = Path(input), Path(output)
     _check_output(output)
     info = probe(input)
-    if info.width != 2 * info.height and not force:
-        raise InvalidValueError(
-            f"'{input}' is {info.width}x{info.height}, not 2:1 (equirectangular); "
-            "pass --force to warp it anyway",
-        )
-    if info.spherical is not None and info.spherical.stereo != "mono" and not force:
-        raise InvalidValueError(
-            f"'{input}' is stereoscopic ({info.spherical.stereo}): one map for the whole frame "
-            "would mix the two eyes; pass --force to warp it anyway (the output is marked mono)"
-        )
-    enc = _encoder(codec)
+    layout, grid, size = frame_layout(info, input, stereo, grid, out_shape, force)
+    enc = _encoder(default_codec(output) if codec is None else codec)
     out_pix = _pick_pix_fmt(enc, info.pix_fmt, pix_fmt)
+    _check_even(size, out_pix)
     high = _depth(out_pix) > 8
     rgb = _HIGH_DEPTH_RGB if high else "rgb24"
-    options: dict[str, str] = {}
-    crf = _DEFAULT_CRF.get(enc.name) if crf is None else crf
-    if crf is not None:
-        options["crf"] = f"{crf:g}"
-    if preset is not None:
-        options["preset"] = preset
-    if enc.name == "libx265":
-        options["x265-params"] = "log-level=error"
-
-    _check_encoder(enc, out_pix, options, info)
+    check_container(enc, output)
+    options = encoder_options(enc, crf, preset)
+    _check_encoder(enc, out_pix, options, info, size)
     import av
+
+    def make_plan(inverse: SphereMap, opts: dict[str, Any], in_pix: str) -> Any:
+        def make(shape: tuple[int, int], eye_out: tuple[int, int] | None) -> FramePlan:
+            return FramePlan(
+                inverse, shape, stereo=layout, grid=grid, out_shape=eye_out or out_shape,
+                **{"force": force, **opts},
+            )  # fmt: skip
+
+        return frame_plan(make, (info.height, info.width), in_pix, out_pix, rgb, planar)
 
     with atomic_file(output, overwrite=overwrite) as tmp:
         src = _open(input)
         try:
-            dst = av.open(str(tmp), "w", format="mov" if output.suffix.lower() == ".mov" else "mp4")
+            dst = av.open(str(tmp), "w", format=muxer(output))
             try:
                 _transcode(
-                    src, dst, info, enc.name, out_pix, rgb, options, frame_map, progress, force
-                )
+                    src, dst, info, enc.name, out_pix, rgb, options, frame_map, progress,
+                    make_plan, size,
+                )  # fmt: skip
             finally:
                 dst.close()
         finally:
             src.close()
-        if spherical:
-            write_spherical(tmp, Spherical())
-        else:
-            write_spherical(tmp, None)
+        write_spherical(tmp, output_spherical(info, layout, grid, spherical))
     return info
+
+
+def frame_layout(
+    info: VideoInfo,
+    input: Path,
+    stereo: str | None,
+    grid: Any,
+    out_shape: tuple[int, int] | None,
+    force: bool,
+) -> tuple[str, Any, tuple[int, int]]:
+    """The stereo layout, the output grid (resolved for an eye) and the output frame's size;
+    refuses an eye that is not 2:1 unless ``force``."""
+    layout = stereo_layout(info, stereo)
+    eye_h, eye_w = eye_shape((info.height, info.width), layout)
+    if eye_w != 2 * eye_h and not force:
+        what = "" if layout == "mono" else f" each eye ({layout} stereo) is {eye_w}x{eye_h},"
+        raise InvalidValueError(
+            f"'{input}' is {info.width}x{info.height},{what} not 2:1 (equirectangular); "
+            "pass --force to warp it anyway",
+        )
+    grid = resolve_grid(grid, (eye_h, eye_w))
+    return layout, grid, FramePlan.output_shape((eye_h, eye_w), layout, grid, out_shape)
+
+
+def stereo_layout(info: VideoInfo, stereo: str | None) -> str:
+    """The stereo layout to warp by: ``stereo`` when given, else the input's metadata's."""
+    if stereo is not None:
+        return parse_stereo(stereo)
+    return info.spherical.stereo if info.spherical is not None else "mono"
+
+
+def output_spherical(
+    info: VideoInfo,
+    layout: str,
+    grid: Any,
+    spherical: bool | Callable[[Spherical], Spherical | None],
+) -> Spherical | None:
+    """The spherical metadata of an output (see :func:`render_video`'s ``spherical``)."""
+    if not spherical:
+        return None
+    if not is_panorama(grid):
+        return Spherical(projection="", stereo=layout) if layout != "mono" else None
+    meta = Spherical(stereo=layout)
+    if info.spherical is not None:
+        sph = info.spherical
+        meta.yaw, meta.pitch, meta.roll = sph.yaw, sph.pitch, sph.roll
+    return spherical(meta) if callable(spherical) else Spherical(stereo=layout)
+
+
+def _check_even(size: tuple[int, int], pix: str) -> None:
+    """Refuse odd sides that ``pix``'s subsampled chroma cannot hold."""
+    h, w = size
+    both = pix.startswith(("yuv420", "yuvj420", "yuva420", "nv12", "nv21", "p010", "p016"))
+    wide = pix.startswith(("yuv422", "yuvj422", "yuva422", "nv16"))
+    if (both and (h % 2 or w % 2)) or (wide and w % 2):
+        raise InvalidValueError(
+            f"the output is {w}x{h}; {pix} needs even sides: choose a --size with even sides"
+        )
 
 
 def _transcode(
@@ -403,17 +530,16 @@ def _transcode(
     options: dict[str, str],
     frame_map: FrameMap,
     progress: Callable[[int, int], None] | None,
-    force: bool,
+    make_plan: Callable[[SphereMap, dict[str, Any], str], Any],
+    size: tuple[int, int],
 ) -> None:
     import av
-
-    from ..render import WarpMap
 
     vin = src.streams.video[0]
     vin.thread_type = "AUTO"
     rate = vin.average_rate or vin.guessed_rate or Fraction(24)
     vout = dst.add_stream(codec, rate=rate, options=options)
-    vout.width, vout.height = info.width, info.height
+    vout.height, vout.width = size
     vout.pix_fmt = out_pix
     vout.time_base = vin.time_base
     vout.codec_context.time_base = vin.time_base
@@ -425,8 +551,9 @@ def _transcode(
         name = s.codec_context.name if s.codec_context is not None else "unknown"
         if s.type == "video":
             why = "only the first video stream is warped"
-        elif name not in _COPYABLE.get(s.type, ()):
-            why = f"an MP4/MOV file cannot hold {s.type} in {name}"
+        elif not _copyable(s.type, name, dst.format.name):
+            kind = {"matroska": "a Matroska", "webm": "a WebM"}.get(dst.format.name, "an MP4/MOV")
+            why = f"{kind} file cannot hold {s.type} in {name}"
         else:
             copies[s.index] = dst.add_stream_from_template(s)
             continue
@@ -487,13 +614,8 @@ def _transcode(
             t = float(item.pts * item.time_base) if item.pts is not None else done / rate
             inverse, opts = frame_map(t)
             if plan is None or plan[0] is not inverse:
-                plan = (
-                    inverse,
-                    WarpMap.build(inverse, (info.height, info.width), **{"force": force, **opts}),
-                )
-            pixels = item.to_ndarray(format=rgb)
-            out = plan[1].apply(pixels)
-            frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(out), format=rgb)
+                plan = (inverse, make_plan(inverse, opts, item.format.name))
+            frame = plan[1].apply(item)
             frame.pts, frame.time_base = item.pts, item.time_base
             _put(warped, frame, stop)
             done += 1
