@@ -17,7 +17,7 @@ kernels of the plain equirectangular output.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,6 +27,9 @@ from ..errors import InvalidValueError
 from ..maps.base import SphereMap
 from ..render import antialias as _aa
 from .base import Grid
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..render.plan import Plan
 
 __all__ = ["render_into", "from_grid"]
 
@@ -64,8 +67,20 @@ def footprints(
     pb = inverse_map.pull(coords.cp1_from_xyz(d))
     c = _tap_uv(pb.points, in_shape)
     ok_c = np.ones(len(x), bool) if pb.valid is None else pb.valid
+    return _jacobian(c, ok_c, uvs, oks, w_in)
+
+
+def _jacobian(
+    c: NDArray[np.float64],
+    ok_c: NDArray[np.bool_],
+    uvs: list[NDArray[np.float64]],
+    oks: list[NDArray[np.bool_]],
+    w_in: int,
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """The Jacobian and jumps of pixels from the tap-space points of their centres
+    (``c``, ``(n, 2)``) and of their left, right, top and bottom edges (``uvs``)."""
     cols = []
-    jump = np.zeros(len(x), bool)
+    jump = np.zeros(len(c), bool)
     for lo, hi in ((0, 1), (2, 3)):
         dl = 2 * (c - uvs[lo])
         dr = 2 * (uvs[hi] - c)
@@ -114,33 +129,161 @@ def shrinks_somewhere(grid: Grid, inverse_map: SphereMap, in_shape: tuple[int, i
 
 def render_into(
     images: list[NDArray],
-    inverse_map: SphereMap,
-    grid: Grid,
+    plan: Plan,
     out: NDArray,
-    interp: str,
-    aa: tuple[str, int],
     bg: NDArray[np.float32],
-    sampler: str,
-    threads: int | None,
     progress: Callable[[int, int], None] | None = None,
 ) -> None:
-    """Fill ``out`` (the grid's shape) with ``images`` pulled back through the map.
+    """Fill ``out`` (the grid's shape) with ``images`` pulled back by a render plan
+    (:class:`~spherewarp.render.plan.Plan` of path ``"grid"``; its anti-aliasing is
+    resolved: ``"area"``, ``"adaptive"``, ``"uniform"`` or ``"none"``).
 
-    ``aa`` is a resolved anti-aliasing mode (``"area"``, ``"adaptive"``,
-    ``"uniform"``, ``"none"``; ``"auto"`` is resolved here from
-    :func:`shrinks_somewhere`).
+    With compiled samplers and a one-sheet map, the geometry (the directions of the
+    pixels and of their footprints' corners, and the map's stages where it has them)
+    is compiled too (:func:`~spherewarp.render.plan.grid_points`); otherwise it is
+    NumPy's.
     """
-    from ..render.warp import _rows_done, _sample_batches
-
+    grid = plan.grid
     h_out, w_out, co = out.shape
     if (h_out, w_out) != grid.shape:
         raise InvalidValueError(f"expected an output of the grid's shape {grid.shape}")
+    if plan.sampler == "fast" and plan.inverse_map.n_sheets <= 1:
+        _render_compiled(images[0], plan, out, bg, progress)
+    else:
+        _render_numpy(images, plan, out, bg, progress)
+
+
+def _grid_valid(grid: Grid, x: NDArray[np.float64], y: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Where the grid shows anything (inside a fisheye's disc; everywhere elsewhere)."""
+    if getattr(grid, "disc", False):
+        a, b = grid._ab(x, y)
+        return np.hypot(a, b) <= 1.0
+    return np.ones(x.shape, bool)
+
+
+def _fill_outside(out: NDArray, r0: int, r1: int, gvalid: NDArray, bg: NDArray) -> None:
+    """Outside the picture (a fisheye's disc): background, transparent."""
+    if not np.all(gvalid):
+        co = out.shape[2]
+        part = out.reshape(-1, co)[r0 * out.shape[1] : r1 * out.shape[1]]
+        fill = np.zeros(co, np.float64)
+        fill[: len(bg)] = bg
+        part[~gvalid] = fill.astype(out.dtype)
+
+
+def _render_compiled(
+    src: NDArray,
+    plan: Plan,
+    out: NDArray,
+    bg: NDArray[np.float32],
+    progress: Callable[[int, int], None] | None,
+) -> None:
+    """The grid path with compiled geometry and samplers (one sheet): per band, the
+    centres' source points and footprints, then the samples of each pixel (one, or
+    its footprint's parts for the area filter, or its subsamples) in tap space."""
+    from ..render import fast
+    from ..render.plan import grid_points
+    from ..render.warp import _finish, _rows_done
+
+    grid = plan.grid
+    h_out, w_out, co = out.shape
+    in_shape = plan.in_shape
+    mode, n = plan.antialias
+    flat = out.reshape(-1)
+    band = max(1, _BAND_PIXELS // w_out)
+    cols = np.arange(w_out, dtype=np.float64) + 0.5
+    for r0 in range(0, h_out, band):
+        _rows_done(progress, r0, h_out)
+        r1 = min(h_out, r0 + band)
+        rows = np.arange(r0, r1, dtype=np.float64) + 0.5
+        x, y = (a.reshape(-1) for a in np.broadcast_arrays(cols[None, :], rows[:, None]))
+        npx = x.size
+        gvalid = _grid_valid(grid, x, y)
+        u, v, ok = grid_points(plan, x, y, 0.0, 0.0)
+        boxes = None
+        if mode in ("area", "adaptive"):
+            J, jump = _footprints_uv(plan, x, y, u, v, ok, in_shape)
+            nx, ny = _counts(J, jump, mode)
+            if mode == "area":
+                J[:, jump] = 0.0
+                boxes = (np.hypot(J[0] / nx, J[1] / ny), np.hypot(J[2] / nx, J[3] / ny))
+        elif mode == "uniform":
+            nx = np.full(npx, n, np.int64)
+            ny = nx.copy()
+        else:
+            nx = np.ones(npx, np.int64)
+            ny = nx.copy()
+        nx[~gvalid] = 1  # outside the picture: background, no samples
+        ny[~gvalid] = 1
+        counts = nx * ny
+        special = counts > 1
+        start = np.concatenate([[0], np.cumsum(counts)])
+        if np.any(special):
+            sp = np.flatnonzero(special)
+            owner, ox, oy = _aa.subsample_offsets(nx[sp], ny[sp])
+            su, sv, sok = grid_points(plan, x[sp[owner]], y[sp[owner]], ox - 0.5, oy - 0.5)
+            total = int(start[-1])
+            first = np.cumsum(counts[sp]) - counts[sp]
+            where_sub = start[sp[owner]] + (np.arange(owner.size) - first[owner])
+            where_one = start[:-1][~special]
+            uu = np.empty(total)
+            vv = np.empty(total)
+            kk = np.empty(total, bool)
+            uu[where_one], vv[where_one], kk[where_one] = u[~special], v[~special], ok[~special]
+            uu[where_sub], vv[where_sub], kk[where_sub] = su, sv, sok
+        else:
+            uu, vv, kk = u, v, ok
+        p0 = r0 * w_out
+        if boxes is not None:
+            own = np.repeat(np.arange(npx), counts)
+            acc, cover = fast.area_samples(src, uu, vv, boxes[0][own], boxes[1][own], kk, own, npx)
+            _finish(acc, cover, counts, src, bg, flat, co, p0)
+        else:
+            fast.sample_samples(
+                src, uu, vv, kk, start, flat, co, p0, interp=plan.interp, background=bg,
+                threads=plan.threads,
+            )  # fmt: skip
+        _fill_outside(out, r0, r1, gvalid, bg)
+    _rows_done(progress, h_out, h_out)
+
+
+def _footprints_uv(
+    plan: Plan,
+    x: NDArray[np.float64],
+    y: NDArray[np.float64],
+    cu: NDArray[np.float64],
+    cv: NDArray[np.float64],
+    ok_c: NDArray[np.bool_],
+    in_shape: tuple[int, int],
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """:func:`footprints` from compiled geometry (the centres' tap-space points given)."""
+    from ..render.plan import grid_points
+
+    uvs = []
+    oks = []
+    for dx, dy in ((-0.5, 0.0), (0.5, 0.0), (0.0, -0.5), (0.0, 0.5)):
+        pu, pv, pok = grid_points(plan, x, y, dx, dy)
+        uvs.append(np.stack([pu, pv], -1))
+        oks.append(pok)
+    return _jacobian(np.stack([cu, cv], -1), ok_c, uvs, oks, in_shape[1])
+
+
+def _render_numpy(
+    images: list[NDArray],
+    plan: Plan,
+    out: NDArray,
+    bg: NDArray[np.float32],
+    progress: Callable[[int, int], None] | None,
+) -> None:
+    """The grid path with NumPy geometry (any number of sheets; NumPy or compiled
+    samplers)."""
+    from ..render.warp import _rows_done, _sample_batches
+
+    grid, inverse_map, interp = plan.grid, plan.inverse_map, plan.interp
+    sampler, threads = plan.sampler, plan.threads
+    h_out, w_out, co = out.shape
     in_shape = images[0].shape[:2]
-    mode, n = aa
-    if mode == "auto":
-        mode, n = _aa.resolve_auto(aa, interp, shrinks_somewhere(grid, inverse_map, in_shape))
-    if mode == "area" and interp != "bilinear":
-        mode, n = _aa.AREA_FALLBACK
+    mode, n = plan.antialias
     if len(images) > 1 and inverse_map.n_sheets > 1 and mode != "area":
         sampler = "reference"
     flat = out.reshape(-1)
@@ -182,11 +325,7 @@ def render_into(
             images, inverse_map, px, nx, ny, centre, (h_out, w_out), flat, co, r0 * w_out,
             interp, bg, sampler, threads, boxes, to_cp1=to_cp1,
         )  # fmt: skip
-        if not np.all(gvalid):  # outside the picture: background, transparent
-            part = out.reshape(-1, co)[r0 * w_out : r1 * w_out]
-            fill = np.zeros(co, np.float64)
-            fill[: len(bg)] = bg
-            part[~gvalid] = fill.astype(out.dtype)
+        _fill_outside(out, r0, r1, gvalid, bg)
     _rows_done(progress, h_out, h_out)
 
 
