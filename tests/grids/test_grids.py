@@ -152,13 +152,19 @@ def test_matches_v360(interior, name, v360_name, shape, view):
 
 @pytest.mark.parametrize(
     "name, shape, floor",
-    [("cubemap", (1024, 1536), 35), ("fisheye", (1024, 1024), 35), ("equirect", None, 60)],
+    [
+        ("cubemap", None, 35),
+        ("cubemap-6x1", None, 35),
+        ("fisheye", (1024, 1024), 35),
+        ("equirect", None, 60),
+    ],
 )
 def test_round_trip(interior, name, shape, floor):
-    """--to then --from gives the panorama back where the view covers it (at twice the
-    default size: a cube map of faces half the panorama's height loses its detail)."""
+    """--to then --from gives the panorama back where the view covers it, the cube maps
+    over the whole sphere at their default size and filter (36.2 dB measured; 28.8 dB
+    with faces half the panorama's height and bilinear back)."""
     g = make_grid(name, interior.shape[:2], shape=shape)
-    view = warp(interior, Mobius.identity(), grid=g, antialias="none")
+    view = warp(interior, Mobius.identity(), grid=g)
     back = from_grid(view, g, interior.shape[:2], alpha=True)
     covered = back[..., 3] == 255
     assert covered.mean() > (0.45 if name == "fisheye" else 0.999)

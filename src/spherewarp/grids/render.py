@@ -182,7 +182,7 @@ def _render_compiled(
     centres' source points and footprints, then the samples of each pixel (one, or
     its footprint's parts for the area filter, or its subsamples) in tap space."""
     from ..render import fast
-    from ..render.plan import grid_points
+    from ..render.plan import grid_footprints, grid_points
     from ..render.warp import _finish, _rows_done
 
     grid = plan.grid
@@ -199,10 +199,15 @@ def _render_compiled(
         x, y = (a.reshape(-1) for a in np.broadcast_arrays(cols[None, :], rows[:, None]))
         npx = x.size
         gvalid = _grid_valid(grid, x, y)
-        u, v, ok = grid_points(plan, x, y, 0.0, 0.0)
         boxes = None
+        both = grid_footprints(plan, x, y) if mode in ("area", "adaptive") else None
+        if both is not None:
+            u, v, ok, J, jump = both
+        else:
+            u, v, ok = grid_points(plan, x, y, 0.0, 0.0)
         if mode in ("area", "adaptive"):
-            J, jump = _footprints_uv(plan, x, y, u, v, ok, in_shape)
+            if both is None:
+                J, jump = _footprints_uv(plan, x, y, u, v, ok, in_shape)
             nx, ny = _counts(J, jump, mode)
             if mode == "area":
                 J[:, jump] = 0.0
@@ -329,21 +334,48 @@ def _render_numpy(
     _rows_done(progress, h_out, h_out)
 
 
-def _sample_clamped(image: NDArray, x: NDArray, y: NDArray) -> NDArray[np.float32]:
-    """Bilinear samples of a flat picture at pixel positions, clamped at its edges."""
-    h, w = image.shape[:2]
-    u = np.clip(x - 0.5, 0.0, w - 1.0)
-    v = np.clip(y - 0.5, 0.0, h - 1.0)
-    i0 = np.minimum(np.floor(u).astype(np.intp), max(w - 2, 0))
-    j0 = np.minimum(np.floor(v).astype(np.intp), max(h - 2, 0))
-    i1 = np.minimum(i0 + 1, w - 1)
-    j1 = np.minimum(j0 + 1, h - 1)
-    fu = (u - i0).astype(np.float32)[:, None]
-    fv = (v - j0).astype(np.float32)[:, None]
+def _tile_bounds(grid: Grid, x: NDArray, y: NDArray) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """The first and last pixel columns and rows that a sample at ``(x, y)`` may read: its
+    cube face (a cube map's taps never reach the next face), else the whole picture."""
+    h, w = grid.shape
+    face = getattr(grid, "face", None)
+    if face is None or not hasattr(grid, "cols"):
+        zero = np.zeros(x.shape, np.intp)
+        return zero, zero + (w - 1), zero, zero + (h - 1)
+    col = np.clip(np.floor(x / face), 0, grid.cols - 1).astype(np.intp)
+    row = np.clip(np.floor(y / face), 0, grid.rows - 1).astype(np.intp)
+    return col * face, col * face + face - 1, row * face, row * face + face - 1
+
+
+def _sample_clamped(
+    image: NDArray, x: NDArray, y: NDArray, bounds: tuple[NDArray, ...], interp: str
+) -> NDArray[np.float32]:
+    """Samples of a flat picture at pixel positions, taps clamped to ``bounds`` (per
+    sample: first and last column, first and last row): bilinear, or bicubic (Keys,
+    a = -0.5, as :func:`~spherewarp.render.sample`)."""
+    from ..render.sampling import _cubic_weights
+
+    x0b, x1b, y0b, y1b = bounds
+    u = np.clip(x - 0.5, x0b, x1b)
+    v = np.clip(y - 0.5, y0b, y1b)
+    i0 = np.floor(u).astype(np.intp)
+    j0 = np.floor(v).astype(np.intp)
+    fu = (u - i0).astype(np.float32)
+    fv = (v - j0).astype(np.float32)
     im = image.astype(np.float32, copy=False)
-    top = im[j0, i0] * (1 - fu) + im[j0, i1] * fu
-    bot = im[j1, i0] * (1 - fu) + im[j1, i1] * fu
-    return top * (1 - fv) + bot * fv
+    if interp == "bicubic":
+        taps = (-1, 0, 1, 2)
+        wx, wy = _cubic_weights(fu), _cubic_weights(fv)
+    else:
+        taps = (0, 1)
+        wx, wy = [1 - fu, fu], [1 - fv, fv]
+    cols = [np.clip(i0 + d, x0b, x1b) for d in taps]
+    out = np.zeros((len(x), image.shape[2]), np.float32)
+    for dj, wyj in zip(taps, wy, strict=True):
+        jj = np.clip(j0 + dj, y0b, y1b)
+        row = sum(wxi[:, None] * im[jj, ci] for wxi, ci in zip(wx, cols, strict=True))
+        out += wyj[:, None] * row
+    return out
 
 
 def from_grid(
@@ -354,12 +386,14 @@ def from_grid(
     supersample: int | None = None,
     background: Any = None,
     alpha: bool = False,
+    interp: str = "bicubic",
 ) -> NDArray:
     """An equirectangular panorama of ``output_shape`` from a picture in ``grid``.
 
-    Every output pixel averages ``supersample x supersample`` bilinear samples (default:
-    one, and more where the picture has over twice the output's pixels a side: up to 4) of
-    ``image`` (clamped at its edges; a cube map's samples stay on their face) at
+    Every output pixel averages ``supersample x supersample`` samples (default: one, and
+    more where the picture has over twice the output's pixels a side: up to 4), bicubic
+    (``interp="bilinear"`` for bilinear), of ``image`` (their taps clamped at its edges;
+    a cube map's taps stay on their face) at
     :meth:`Grid.inverse` of their directions; directions the picture does not show
     get ``background`` (and alpha 0 with ``alpha``).
 
@@ -378,6 +412,11 @@ def from_grid(
             f"expected a picture of the grid's size {grid.shape[1]}x{grid.shape[0]}, "
             f"got {img.shape[1]}x{img.shape[0]}"
         )
+    from ..render.sampling import check_interp
+
+    interp = check_interp(interp)
+    if interp == "nearest":
+        raise InvalidValueError("expected interp 'bilinear' or 'bicubic' for a grid's picture")
     h_out, w_out = (int(v) for v in output_shape)
     c = img.shape[2]
     add_alpha = alpha and c in (1, 3)
@@ -396,7 +435,8 @@ def from_grid(
         )
         ll = coords.lonlat_from_pixel(np.stack([xx + ox, yy + oy], -1), w_out, h_out)
         px, ok = grid.inverse(coords.xyz_from_lonlat(ll).reshape(-1, 3))
-        vals = _sample_clamped(img, px[:, 0], px[:, 1])
+        bounds = _tile_bounds(grid, px[:, 0], px[:, 1])
+        vals = _sample_clamped(img, px[:, 0], px[:, 1], bounds, interp)
         vals[~ok] = bg
         vals = vals.reshape(r1 - r0, w_out, n * n, c).mean(axis=2)
         if add_alpha:

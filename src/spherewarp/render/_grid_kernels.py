@@ -313,3 +313,80 @@ def sample_taps(
                         acc_sample(img, u[k], v[k], interp, acc, k)
                         cov = 1
                     finish_pixel(acc, k, cov, 1, bg, dst, p0 + k, c, co, is_int, maxval, full)
+
+
+#: the footprint's probes: the centre, then half a pixel left, right, up and down
+_PROBES = ((0.0, 0.0), (-0.5, 0.0), (0.5, 0.0), (0.0, -0.5), (0.0, 0.5))
+
+
+@njit(**_P)
+def grid_footprints(
+    kind, gp, faces, codes, params, x, y, kx, ky, w_in, u, v, valid, J, jump, wk, nw
+):  # fmt: skip
+    """Source points and footprints of grid pixels centred at ``(x, y)``, as
+    ``spherewarp.grids.render.footprints`` measures them: the tap-space points
+    ``(u, v)`` and validity of the centres, the Jacobian ``J`` (4, n: du/dx, du/dy,
+    dv/dx, dv/dy, input pixels per output pixel, from the points half a pixel left,
+    right, above and below; the shorter one-sided difference where the two disagree
+    by over a factor of 2) and ``jump`` (1 on a jump of the map or the edge of a hole).
+    """
+    n = x.shape[0]
+    f64 = np.empty((5, CHUNK))
+    T = f64[0]
+    X = f64[1]
+    Y = f64[2]
+    Z = f64[3]
+    G = f64[4]
+    ok = np.empty(CHUNK, np.uint8)
+    offs = np.empty((2, CHUNK))
+    pu = np.empty((5, CHUNK))
+    pv = np.empty((5, CHUNK))
+    po = np.empty((5, CHUNK), np.uint8)
+    ww = float(w_in)
+    for ci in range(wk, (n + CHUNK - 1) // CHUNK, nw):
+        a = ci * CHUNK
+        m = min(CHUNK, n - a)
+        for e in range(5):
+            offs[0, :] = _PROBES[e][0]
+            offs[1, :] = _PROBES[e][1]
+            _camera(kind, gp, faces, x[a:], y[a:], offs[0], offs[1], m, X, Y, Z, ok)
+            _stages_to_source(codes, params, T, X, Y, Z, G, ok, m, kx, ky, pu[e], pv[e], po[e])
+        for k in range(m):
+            cu = pu[0, k]
+            cv = pv[0, k]
+            okc = po[0, k] != 0
+            jmp = False
+            for axis in range(2):
+                lo = 1 + 2 * axis
+                hi = lo + 1
+                lu = 2.0 * (cu - pu[lo, k])
+                lv = 2.0 * (cv - pv[lo, k])
+                ru = 2.0 * (pu[hi, k] - cu)
+                rv = 2.0 * (pv[hi, k] - cv)
+                lu = (lu + ww) % (2.0 * ww) - ww  # round the seam
+                ru = (ru + ww) % (2.0 * ww) - ww
+                ll = lu * lu + lv * lv
+                lr = ru * ru + rv * rv
+                near = 4.0 * min(ll, lr) >= max(ll, lr)
+                if not near and max(ll, lr) > 4.0:
+                    jmp = True
+                if okc and not (po[lo, k] != 0 and po[hi, k] != 0):
+                    jmp = True
+                if near:
+                    du = 0.5 * (lu + ru)
+                    dv = 0.5 * (lv + rv)
+                elif ll <= lr:
+                    du = lu
+                    dv = lv
+                else:
+                    du = ru
+                    dv = rv
+                if not okc:
+                    du = 0.0
+                    dv = 0.0
+                J[axis, a + k] = du
+                J[2 + axis, a + k] = dv
+            u[a + k] = cu
+            v[a + k] = cv
+            valid[a + k] = 1 if okc else 0
+            jump[a + k] = 1 if (jmp and okc) else 0

@@ -41,6 +41,7 @@ ENTRY_POINTS = (
 #: the kernels of ``_grid_kernels`` (the render plan's) that Python calls
 GRID_ENTRY_POINTS = (
     "grid_source",  # warp() into a grid, maps with compiled stages
+    "grid_footprints",  # the same, its pixels' footprints (area, adaptive)
     "grid_xyz",  # the same, maps without
     "xyz_source",  # the Peirce and torus grids
     "spec_rows",  # WarpMap of a one-tap plan

@@ -399,6 +399,37 @@ def grid_points(
     return np.nan_to_num(uv[:, 0]), np.nan_to_num(uv[:, 1]), valid
 
 
+def grid_footprints(
+    p: Plan, x: NDArray[np.float64], y: NDArray[np.float64]
+) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray] | None:
+    """``(u, v, valid, J, jump)`` of grid pixels centred at ``(x, y)`` in one compiled
+    pass (:func:`spherewarp.render._grid_kernels.grid_footprints`), for a map with
+    compiled stages on a grid with compiled directions; None otherwise."""
+    from . import fast
+
+    gk = _grid_kernels() if p.sampler == "fast" else None
+    if gk is None or p.spec is None:
+        return None
+    kind, gp = _grid_params(p.grid)
+    if kind < 0:
+        return None
+    n = x.size
+    h_in, w_in = p.in_shape
+    kx, ky = w_in / (2 * np.pi), h_in / np.pi
+    u = np.empty(n)
+    v = np.empty(n)
+    ok = np.empty(n, np.uint8)
+    J = np.empty((4, n))
+    jump = np.empty(n, np.uint8)
+    x = np.ascontiguousarray(x, np.float64)
+    y = np.ascontiguousarray(y, np.float64)
+    args = (
+        kind, gp, _FACES, p.spec.codes, p.spec.params, x, y, kx, ky, w_in, u, v, ok, J, jump,
+    )  # fmt: skip
+    fast._run(gk.grid_footprints, args, p.threads, -(-n // 256))
+    return u, v, ok.astype(bool), J, jump.astype(bool)
+
+
 def _faces() -> NDArray[np.float64]:
     from ..grids.base import _FACES as faces
 
