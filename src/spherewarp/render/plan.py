@@ -314,10 +314,38 @@ def _grid_kernels() -> Any:
     if fast._kernels() is None:
         return None
     if "grid_kernels" not in fast._STATE:
+        _drop_stale_grid_cache()
         from . import _grid_kernels
 
         fast._STATE["grid_kernels"] = _grid_kernels
     return fast._STATE["grid_kernels"]
+
+
+def _drop_stale_grid_cache() -> None:
+    """Drop numba's cached ``_grid_kernels`` machine code when ``_kernels.py`` changed.
+
+    numba keys a cache by its own source file only, but ``_grid_kernels`` compiles
+    ``_kernels``' helpers into its code: after an edit of ``_kernels.py`` alone its
+    cache would still load, with the old helpers inlined. A stamp of ``_kernels.py``
+    next to the cache files says which version they were compiled against (best
+    effort: the package's own ``__pycache__``, where the build puts them).
+    """
+    import hashlib
+    from pathlib import Path
+
+    here = Path(__file__).resolve().parent
+    cache = here / "__pycache__"
+    try:
+        digest = hashlib.sha256((here / "_kernels.py").read_bytes()).hexdigest()
+        stamp = cache / "_grid_kernels.kernels-sha256"
+        if stamp.is_file() and stamp.read_text().strip() == digest:
+            return
+        for f in cache.glob("_grid_kernels.*.nb[ic]"):
+            f.unlink()
+        cache.mkdir(exist_ok=True)
+        stamp.write_text(digest)
+    except OSError:  # a read-only install: numba's user cache directory is used there
+        pass
 
 
 def _grid_params(grid: Grid) -> tuple[int, NDArray[np.float64]]:
