@@ -114,6 +114,31 @@ def _counts(
     return nx, ny
 
 
+def _samples(
+    mode: str,
+    n: int,
+    J: NDArray[np.float64] | None,
+    jump: NDArray[np.bool_] | None,
+    gvalid: NDArray[np.bool_],
+) -> tuple[NDArray[np.int64], NDArray[np.int64], tuple[NDArray, NDArray] | None]:
+    """Samples (or area parts) per axis of each pixel for an anti-aliasing mode, and for
+    the area filter the box of each part (input pixels); pixels outside the picture
+    (``~gvalid``) get one sample, the background."""
+    npx = gvalid.size
+    boxes = None
+    if mode in ("area", "adaptive"):
+        nx, ny = _counts(J, jump, mode)
+        if mode == "area":
+            J[:, jump] = 0.0
+            boxes = (np.hypot(J[0] / nx, J[1] / ny), np.hypot(J[2] / nx, J[3] / ny))
+    else:
+        nx = np.full(npx, n if mode == "uniform" else 1, np.int64)
+        ny = nx.copy()
+    nx[~gvalid] = 1
+    ny[~gvalid] = 1
+    return nx, ny, boxes
+
+
 def shrinks_somewhere(grid: Grid, inverse_map: SphereMap, in_shape: tuple[int, int]) -> bool:
     """Whether a pixel of the grid somewhere covers more than about one input pixel (on
     a probe of about 64 x 64 pixels): ``antialias="auto"`` then filters by area."""
@@ -199,27 +224,15 @@ def _render_compiled(
         x, y = (a.reshape(-1) for a in np.broadcast_arrays(cols[None, :], rows[:, None]))
         npx = x.size
         gvalid = _grid_valid(grid, x, y)
-        boxes = None
         both = grid_footprints(plan, x, y) if mode in ("area", "adaptive") else None
+        J = jump = None
         if both is not None:
             u, v, ok, J, jump = both
         else:
             u, v, ok = grid_points(plan, x, y, 0.0, 0.0)
-        if mode in ("area", "adaptive"):
-            if both is None:
+            if mode in ("area", "adaptive"):
                 J, jump = _footprints_uv(plan, x, y, u, v, ok, in_shape)
-            nx, ny = _counts(J, jump, mode)
-            if mode == "area":
-                J[:, jump] = 0.0
-                boxes = (np.hypot(J[0] / nx, J[1] / ny), np.hypot(J[2] / nx, J[3] / ny))
-        elif mode == "uniform":
-            nx = np.full(npx, n, np.int64)
-            ny = nx.copy()
-        else:
-            nx = np.ones(npx, np.int64)
-            ny = nx.copy()
-        nx[~gvalid] = 1  # outside the picture: background, no samples
-        ny[~gvalid] = 1
+        nx, ny, boxes = _samples(mode, n, J, jump, gvalid)
         counts = nx * ny
         special = counts > 1
         start = np.concatenate([[0], np.cumsum(counts)])
@@ -309,22 +322,10 @@ def _render_numpy(
         pb = inverse_map.pull(coords.cp1_from_xyz(d))
         valid = gvalid if pb.valid is None else gvalid & pb.valid
         points = pb.points
-        boxes = None
-        npx = len(px)
+        J = jump = None
         if mode in ("area", "adaptive"):
             J, jump = footprints(grid, inverse_map, x, y, in_shape)
-            nx, ny = _counts(J, jump, mode)
-            if mode == "area":
-                J[:, jump] = 0.0
-                boxes = (np.hypot(J[0] / nx, J[1] / ny), np.hypot(J[2] / nx, J[3] / ny))
-        elif mode == "uniform":
-            nx = np.full(npx, n, np.int64)
-            ny = nx.copy()
-        else:
-            nx = np.ones(npx, np.int64)
-            ny = nx.copy()
-        nx[~gvalid] = 1  # outside the picture: background, no samples
-        ny[~gvalid] = 1
+        nx, ny, boxes = _samples(mode, n, J, jump, gvalid)
         centre: tuple[Any, Any, Any] = (points, valid, pb.sheet)
         _sample_batches(
             images, inverse_map, px, nx, ny, centre, (h_out, w_out), flat, co, r0 * w_out,

@@ -26,7 +26,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InvalidTypeError, InvalidValueError
 from ..maps.base import SphereMap
-from .plan import Options, Plan, _run_taps, plan
+from .plan import Options, Plan, _run_taps, output_buffer, plan
 from .warp import _background, as_image
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -229,19 +229,7 @@ class WarpMap:
         if not self.cached:
             return self.plan.run(img, out=out, background=background, alpha=alpha, threads=threads)
         add_alpha = alpha and c not in (2, 4)
-        shape = (*self.out_shape, c + (1 if add_alpha else 0))
-        if out is None:
-            out = np.empty(shape, img.dtype)
-        elif (
-            not isinstance(out, np.ndarray)
-            or out.shape != shape
-            or out.dtype != img.dtype
-            or not out.flags.c_contiguous
-            or not out.flags.writeable
-        ):
-            raise InvalidValueError(
-                f"out: expected a writeable C-contiguous {img.dtype} array of shape {shape}"
-            )
+        out = output_buffer(out, (*self.out_shape, c + add_alpha), img.dtype)
         bg = _background(background, c)
         p = self.plan
         if threads != p.threads:

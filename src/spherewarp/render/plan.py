@@ -219,19 +219,7 @@ class Plan:
         channels = images[0].shape[2]
         bg = _background(self.background if background is ... else background, channels)
         add_alpha = (self.alpha if alpha is None else alpha) and channels not in (2, 4)
-        shape = (*self.out_shape, channels + (1 if add_alpha else 0))
-        if out is None:
-            out = np.empty(shape, images[0].dtype)
-        elif (
-            not isinstance(out, np.ndarray)
-            or out.shape != shape
-            or out.dtype != images[0].dtype
-            or not out.flags.c_contiguous
-            or not out.flags.writeable
-        ):
-            raise InvalidValueError(
-                f"out: expected a writeable C-contiguous {images[0].dtype} array of shape {shape}"
-            )
+        out = output_buffer(out, (*self.out_shape, channels + add_alpha), images[0].dtype)
         p._render(images, out, bg, add_alpha, progress)
         return out
 
@@ -295,6 +283,24 @@ class Plan:
         y, x = np.mgrid[r0:r1, 0:w_out] + 0.5
         pu, pv, pok = grid_points(self, x.reshape(-1), y.reshape(-1), 0.0, 0.0)
         return pu.reshape(shape), pv.reshape(shape), pok.reshape(shape).astype(np.uint8)
+
+
+def output_buffer(out: NDArray | None, shape: tuple[int, ...], dtype: np.dtype) -> NDArray:
+    """``out`` checked (a writeable C-contiguous array of ``shape`` and ``dtype``), or a
+    new one."""
+    if out is None:
+        return np.empty(shape, dtype)
+    if (
+        not isinstance(out, np.ndarray)
+        or out.shape != shape
+        or out.dtype != dtype
+        or not out.flags.c_contiguous
+        or not out.flags.writeable
+    ):
+        raise InvalidValueError(
+            f"out: expected a writeable C-contiguous {dtype} array of shape {shape}"
+        )
+    return out
 
 
 class _GridCodes:
