@@ -27,7 +27,7 @@ def test_project_to_and_from_cubemap(tmp_path):
     code, out, err = run(None, "project", str(pano), "--to", "cubemap", "-o", str(cube))
     assert code == 0, err
     c = _read(cube)
-    assert c.pixels.shape[:2] == (128, 192) and c.gpano is None
+    assert c.pixels.shape[:2] == (256, 384) and c.gpano is None
     back = tmp_path / "back.png"
     code, out, err = run(None, "project", str(cube), "--from", "cubemap", "-o", str(back))
     assert code == 0, err

@@ -11,8 +11,6 @@ from spherewarp.maps import Mobius, PullBack, SphereMap
 from spherewarp.render import fast, warp
 from spherewarp.render.cache import WarpMap
 
-TOL = {np.uint8: 1, np.uint16: 1, np.float32: 2e-6}
-
 
 def _image(shape, dtype, seed=0):
     r = np.random.default_rng(seed)
@@ -54,47 +52,48 @@ MAPS = [
 
 
 @pytest.mark.parametrize("m", MAPS, ids=["rotation", "zoom", "composite"])
-@pytest.mark.parametrize("antialias", ["none", "auto", 2])
-def test_apply_matches_warp_uint8(m, antialias):
-    img = _image((32, 64, 3), np.uint8)
+@pytest.mark.parametrize("antialias", ["none", "auto", "adaptive", 2])
+@pytest.mark.parametrize("dtype", [np.uint8, np.uint16, np.float32])
+def test_apply_is_warp_bit_for_bit(m, antialias, dtype):
+    """A cached map and warp() make one plan: the same pixels, to the bit."""
+    img = _image((32, 64, 3), dtype)
     for out_shape in [(32, 64), (20, 50)]:
-        wm = WarpMap.build(m, (32, 64), out_shape, antialias=antialias)
-        a = wm.apply(img)
-        # a cached map's "auto" is "adaptive" (its samples can be cached; the area filter's not)
-        b = warp(
-            img, m, output_shape=out_shape,
-            antialias="adaptive" if antialias == "auto" else antialias,
-        )  # fmt: skip
-        assert a.shape == b.shape and a.dtype == b.dtype
-        assert np.abs(a.astype(int) - b).max() <= 1
+        wm = WarpMap(m, (32, 64), out_shape, antialias=antialias)
+        for kw in ({}, {"alpha": True}, {"background": 7}):
+            want = warp(img, m, output_shape=out_shape, antialias=antialias, **kw)
+            np.testing.assert_array_equal(wm.apply(img, **kw), want)
 
 
-@pytest.mark.parametrize("dtype", [np.uint16, np.float32])
-@pytest.mark.parametrize("interp", ["bilinear", "nearest", "bicubic"])
-def test_apply_matches_warp_other_dtypes(dtype, interp):
-    img = _smooth(32, 64, dtype)
-    m = MAPS[1]
-    wm = WarpMap.build(m, (32, 64), interp=interp)
-    a = wm.apply(img).astype(float)
-    b = warp(img, m, interp=interp).astype(float)
-    full = 1.0 if dtype == np.float32 else 65535.0
-    # bilinear weights are stored in 1/256 pixel; other samples as float32 coordinates
-    tol = 2e-3 * full if interp == "bilinear" else TOL[dtype] + 1e-4 * full
-    np.testing.assert_allclose(a, b, rtol=0, atol=tol)
+@pytest.mark.parametrize("interp", ["nearest", "bicubic"])
+def test_other_interpolations_bit_for_bit(interp):
+    for dtype in (np.uint8, np.float32):
+        img = _smooth(32, 64, dtype)
+        for m in MAPS:
+            wm = WarpMap(m, (32, 64), interp=interp)
+            np.testing.assert_array_equal(wm.apply(img), warp(img, m, interp=interp))
+
+
+def test_one_tap_plans_are_cached_the_others_run_per_frame():
+    rot = WarpMap(MAPS[0], (32, 64))
+    assert rot.cached and rot.nbytes == 17 * 32 * 64 and rot.antialias == ("adaptive", 0)
+    zoom = WarpMap(MAPS[1], (32, 64))  # the area filter: planned, not cached
+    assert not zoom.cached and zoom.nbytes == 0 and zoom.antialias == ("area", 0)
+    assert "WarpMap(" in repr(zoom) and "cached=False" in repr(zoom)
+    assert WarpMap(MAPS[1], (32, 64), antialias="none").cached == fast.available()
 
 
 @pytest.mark.parametrize("dtype", [np.uint8, np.float32])
 @pytest.mark.parametrize("compiled", [True, False], ids=["compiled", "numpy"])
 def test_area_is_rendered_on_the_fly_as_warp(dtype, compiled):
-    """``antialias="area"`` is not cached (its taps outweigh the image): apply gives
-    warp's image exactly, and the map holds (almost) nothing; for maps with compiled
-    stages and without (the NumPy-geometry area filter)."""
+    """``antialias="area"`` is not cached: apply gives warp's image exactly, and the map
+    holds nothing; for maps with compiled stages and without (the NumPy-geometry area
+    filter)."""
     from spherewarp.maps import Lattes
 
     img = _image((32, 64, 3), dtype)
     m = Mobius.zoom((20, -30), 6).inverse() if compiled else Lattes((2, 1), method="exact")
-    wm = WarpMap.build(m, (32, 64), (24, 48), antialias="area")
-    assert wm.nbytes < 100 and wm.n_special == 0
+    wm = WarpMap(m, (32, 64), (24, 48), antialias="area")
+    assert wm.nbytes == 0 and wm.n_special == 0
     want = warp(img, m, antialias="area", output_shape=(24, 48))
     np.testing.assert_array_equal(wm.apply(img), want)
     want = warp(img, m, antialias="area", output_shape=(24, 48), alpha=True)
@@ -115,21 +114,24 @@ def test_exact_turns_and_every_pixel(channels):
     h, w = 16, 32
     img = _image((h, w, channels), np.uint8, seed=channels)
     for k in (0, 3, -5):
-        wm = WarpMap.build(Mobius.rotation((0, 90), k * 360 / w), (h, w))
+        m = Mobius.rotation((0, 90), k * 360 / w)
+        wm = WarpMap.build(m, (h, w))
         np.testing.assert_array_equal(wm.apply(img), np.roll(img, -k, axis=1))
         f = img.astype(np.float32)
-        np.testing.assert_array_equal(wm.apply(f), np.roll(f, -k, axis=1))
+        np.testing.assert_array_equal(wm.apply(f), warp(f, m))  # float taps: to rounding
+        np.testing.assert_allclose(wm.apply(f), np.roll(f, -k, axis=1), atol=1e-9)
 
 
-def test_special_pixels_holes_background_alpha():
+@pytest.mark.parametrize("antialias", ["auto", "none"])
+def test_special_pixels_holes_background_alpha(antialias):
     img = _image((32, 64, 3), np.uint8)
-    wm = WarpMap.build(FrontHalf(), (32, 64))
-    assert 0 < wm.n_special < 32 * 64
+    wm = WarpMap(FrontHalf(), (32, 64), antialias=antialias)
     for kw in ({}, {"background": (10, 20, 30)}, {"alpha": True}):
-        np.testing.assert_array_equal(wm.apply(img, **kw), warp(img, FrontHalf(), **kw))
-    zoom = WarpMap.build(MAPS[1], (32, 64))  # anti-aliased pixels where the zoom shrinks
-    assert zoom.n_special > 0
-    assert "WarpMap(" in repr(zoom) and zoom.nbytes > 0
+        want = warp(img, FrontHalf(), antialias=antialias, **kw)
+        np.testing.assert_array_equal(wm.apply(img, **kw), want)
+    inv = Mobius.zoom((0, 0), 2)  # a compiled map with a hole: none (its pole is a point)
+    wm = WarpMap(inv, (32, 64), antialias="none")
+    assert wm.n_special == 0 or wm.cached
 
 
 def test_out_buffer_is_reused_and_checked():
@@ -162,29 +164,19 @@ def test_bad_inputs():
         wm.apply(np.zeros((16, 32, 3), np.int32))
 
 
-def test_numpy_fallback_gives_the_same_maps_and_images(monkeypatch):
-    if not fast.available():
-        pytest.skip("numba is not installed")
+def test_without_numba_the_plan_runs_per_frame(monkeypatch):
     img = _image((32, 64, 3), np.uint8)
-    m = MAPS[1]
-    jit = WarpMap.build(m, (32, 64))
-    a = jit.apply(img)
     monkeypatch.setenv("SPHEREWARP_NO_JIT", "1")
-    plain = WarpMap.build(m, (32, 64))
-    np.testing.assert_array_equal(plain._oa, jit._oa)
-    np.testing.assert_array_equal(plain._wt, jit._wt)
-    assert plain.n_special == jit.n_special
-    assert np.abs(plain.apply(img).astype(int) - a).max() <= 1
-    assert np.abs(jit.apply(img).astype(int) - a).max() <= 1  # applying without numba too
-    f = _smooth(32, 64, np.float32)
-    np.testing.assert_allclose(plain.apply(f, alpha=True)[..., :3], warp(f, m), atol=3e-3)
+    for m in MAPS:
+        wm = WarpMap(m, (32, 64))
+        assert not wm.cached and wm.plan.path == "reference"
+        np.testing.assert_array_equal(wm.apply(img), warp(img, m))
 
 
 @pytest.mark.parametrize("jit", [True, False])
 def test_jumps_are_antialiased_as_in_warp(monkeypatch, jit):
-    """A cached Droste map (it jumps at its seams) gives what ``warp`` gives in
-    ``adaptive`` (a cached map's ``auto``), with and without the compiled kernels: the
-    seam pixels are supersampled in both."""
+    """A planned Droste map (it jumps at its seams) gives what ``warp`` gives, with and
+    without the compiled kernels; the seam pixels are filtered."""
     from spherewarp.maps import Droste
 
     if not jit:
@@ -196,7 +188,26 @@ def test_jumps_are_antialiased_as_in_warp(monkeypatch, jit):
     rng = np.random.default_rng(2)
     img = rng.integers(0, 256, (64, 128, 3), dtype=np.uint8)
     got = WarpMap.build(m, (64, 128)).apply(img).astype(int)
-    want = warp(img, m, antialias="adaptive").astype(int)
+    want = warp(img, m).astype(int)
     plain = warp(img, m, antialias="none").astype(int)
-    assert np.abs(got - want).max() <= 1
+    np.testing.assert_array_equal(got, want)
+    got = WarpMap(m, (64, 128), antialias="adaptive").apply(img)
+    np.testing.assert_array_equal(got, warp(img, m, antialias="adaptive"))
     assert np.mean(np.abs(plain - want).max(-1) > 8) > 0.01  # the seams differ without AA
+
+
+@pytest.mark.parametrize("name", ["rectilinear", "fisheye", "cubemap", "little-planet", "peirce"])
+def test_a_cached_map_knows_grids(name):
+    """``WarpMap(map, in_shape, grid=...)``: the still's view, bit for bit (a rotation's
+    source coordinates cached; a zoom's plan run per frame)."""
+    from spherewarp.grids import make_grid
+
+    img = _image((32, 64, 3), np.uint8)
+    g = make_grid(name, (32, 64), look_at=(20, 10))
+    for m in (MAPS[0], MAPS[1]):
+        for aa in ("auto", "none"):
+            wm = WarpMap(m, (32, 64), grid=g, antialias=aa)
+            assert wm.out_shape == g.shape and wm.grid is g
+            assert wm.cached == wm.plan.cacheable
+            assert wm.cached or aa != "none" or not fast.available()
+            np.testing.assert_array_equal(wm.apply(img), warp(img, m, grid=g, antialias=aa))

@@ -215,10 +215,14 @@ def test_every_kind_compiles_by_default():
 def _numpy_geometry(img, m, shape, mode):
     """``antialias=mode`` through the NumPy-geometry path (``antialias.jump_mask``)."""
     import importlib
+    from dataclasses import replace
+
+    from spherewarp.render.plan import plan
 
     w = importlib.import_module("spherewarp.render.warp")
     out = np.empty((*shape, img.shape[2]), img.dtype)
-    w._warp_by_samples([img], m, out, "bilinear", (mode, 0), np.zeros(3, np.float32), "fast", 1)
+    p = replace(plan(m, None, img.shape[:2], shape, antialias=mode, threads=1), path="sampled")
+    w._warp_by_samples([img], p, out, np.zeros(3, np.float32))
     return out
 
 

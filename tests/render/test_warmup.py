@@ -40,9 +40,32 @@ def test_entry_points_are_the_kernels_python_calls():
     assert called == set(_warmup.ENTRY_POINTS)
 
 
+def test_grid_entry_points_are_the_grid_kernels():
+    from numba.core.dispatcher import Dispatcher
+
+    from spherewarp.render import _grid_kernels
+
+    entries = {
+        name
+        for name, f in vars(_grid_kernels).items()
+        if isinstance(f, Dispatcher)
+        and f.__module__ == _grid_kernels.__name__
+        and not name.startswith("_")
+    }
+    assert entries == set(_warmup.GRID_ENTRY_POINTS)
+
+
+def test_grid_codes_agree():
+    from spherewarp.render import _grid_kernels
+    from spherewarp.render.plan import _GridCodes
+
+    for name in ("EQUIRECT", "STEREO", "FISHEYE", "EQUISOLID", "RECTILINEAR", "CUBE"):
+        assert getattr(_GridCodes, name) == getattr(_grid_kernels, f"GRID_{name}")
+
+
 def test_warmup_compiles_every_entry_point():
     counts = _warmup.run()  # loads the cache where it fits (compiles once otherwise)
-    assert set(counts) == set(_warmup.ENTRY_POINTS)
+    assert set(counts) == set(_warmup.ENTRY_POINTS) | set(_warmup.GRID_ENTRY_POINTS)
     assert all(n >= 1 for n in counts.values()), counts
 
 

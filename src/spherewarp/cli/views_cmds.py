@@ -74,8 +74,8 @@ def project(
     The same grids as every effect's --projection: little-planet (stereographic),
     rectilinear, fisheye, equisolid, cubemap (3x2, as ffmpeg v360's c3x2), cubemap-6x1,
     peirce (quincuncial), torus (the torus cell; --to only). Default sizes: a square of
-    the input's height for little-planet and the fisheyes, faces of half its height for
-    the cube maps.
+    the input's height for little-planet and the fisheyes, faces of its height for the
+    cube maps (--size 3072x2048 for v360's default from a 4096x2048 panorama).
     """
     if (to is None) == (from_ is None):
         raise click.UsageError("give one of --to NAME or --from NAME")
@@ -117,9 +117,9 @@ def _project_from(input: Path, render: RenderOptions, name: str) -> None:
     grid = make_grid(
         name, shape=(h, w), look_at=render.view_at, roll=render.view_roll, fov=render.fov
     )
-    size = (2 * h, h) if render.size is None else render.size
-    if name == "cubemap-6x1" and render.size is None:
-        size = (4 * h, 2 * h)
+    face = getattr(grid, "face", None)  # a cube map: a panorama as tall as a face
+    size = (2 * h, h) if face is None else (2 * face, face)
+    size = size if render.size is None else render.size
     if size[0] != 2 * size[1]:
         raise InvalidValueError(f"expected a 2:1 --size for the panorama, got {size[0]}x{size[1]}")
     n = None if render.supersample == 1 else render.supersample

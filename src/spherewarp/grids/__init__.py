@@ -81,14 +81,18 @@ def default_shape(name: str, in_shape: tuple[int, int]) -> tuple[int, int]:
     """The default (height, width) of grid ``name`` for an input panorama of ``in_shape``.
 
     Equirect: the input's; little planet and fisheyes: a square of the input's
-    height; rectilinear: 4:3, two thirds of the input's height wide; cube maps: faces of half the
-    input's height (ffmpeg ``v360``'s default); Peirce: 3/2 of the input's height
-    (about its resolution at the centre); the torus cell: a square of the input's height.
+    height; rectilinear: 4:3, two thirds of the input's height wide; cube maps: faces of the
+    input's height (twice ffmpeg ``v360``'s default side, four times its pixels: a face
+    of ``f`` pixels shows 90° with ``2 / f`` radians a pixel at its centre, so it takes
+    ``f >= 2 h / pi`` to hold the panorama's equator there, and ``f = h`` to come back
+    from ``project --from`` within 35-43 dB on real photos, against 29-34 dB at
+    v360's ``h / 2``); Peirce: 3/2 of the input's height (about its resolution at the
+    centre); the torus cell: a square of the input's height.
 
     Examples
     --------
     >>> default_shape("cubemap", (512, 1024)), default_shape("little-planet", (512, 1024))
-    ((512, 768), (512, 512))
+    ((1024, 1536), (512, 512))
     """
     cls = _cls(name)
     h, w = (int(v) for v in in_shape[:2])
@@ -97,11 +101,9 @@ def default_shape(name: str, in_shape: tuple[int, int]) -> tuple[int, int]:
     if cls is Rectilinear:  # 90 degrees about as sharp as the panorama at its centre
         return (max(1, round(h / 2)), max(1, round(h * 2 / 3)))
     if cls is CubeMap3x2:
-        f = max(1, h // 2)
-        return (2 * f, 3 * f)
+        return (2 * h, 3 * h)
     if cls is CubeMap6x1:
-        f = max(1, h // 2)
-        return (f, 6 * f)
+        return (h, 6 * h)
     if cls is Peirce:  # about the input's resolution at the centre (as render_peirce)
         n = max(2, round(1.5 * h / 2) * 2)
         return (n, n)

@@ -35,10 +35,17 @@ ENTRY_POINTS = (
     "render_spec",  # warp() of every map with compiled stages, every dtype
     "sample_csr",  # warp() of maps without compiled stages
     "area_batch",  # the same with antialias="area"
-    "spec_coords",  # WarpMap.build
-    "spec_subsample_coords",  # WarpMap.build, anti-aliased pixels
-    "build_taps",  # WarpMap.build, uint8 bilinear
-    "apply_cache",  # WarpMap.apply
+    "spec_coords",  # fast.source_coords
+    "spec_subsample_coords",  # fast.subsample_coords
+)
+#: the kernels of ``_grid_kernels`` (the render plan's) that Python calls
+GRID_ENTRY_POINTS = (
+    "grid_source",  # warp() into a grid, maps with compiled stages
+    "grid_footprints",  # the same, its pixels' footprints (area, adaptive)
+    "grid_xyz",  # the same, maps without
+    "xyz_source",  # the Peirce and torus grids
+    "spec_rows",  # WarpMap of a one-tap plan
+    "sample_taps",  # one-tap plans: WarpMap.apply, warp() into a grid
 )
 
 
@@ -52,11 +59,15 @@ def compiled_entry_points() -> dict[str, int]:
     True
     """
     from . import fast
+    from .plan import _grid_kernels
 
     k = fast._kernels()
     if k is None:
         return {}
-    return {name: len(getattr(k, name).overloads) for name in ENTRY_POINTS}
+    counts = {name: len(getattr(k, name).overloads) for name in ENTRY_POINTS}
+    gk = _grid_kernels()
+    counts.update({name: len(getattr(gk, name).overloads) for name in GRID_ENTRY_POINTS})
+    return counts
 
 
 def _images() -> list[np.ndarray]:
@@ -101,13 +112,31 @@ def _steps() -> list[tuple[str, Any]]:
 
     def cached(img: np.ndarray) -> None:
         for m in (rot, zoom):
-            wm = WarpMap.build(m, img.shape[:2], threads=1)
+            wm = WarpMap(m, img.shape[:2], threads=1)
             wm.apply(img, threads=1)
 
+    def grids(img: np.ndarray) -> None:
+        from ..grids import make_grid
+        from ..maps import ExpressionMap
+
+        for name in ("rectilinear", "peirce"):
+            g = make_grid(name, img.shape[:2])
+            for m in (rot, zoom, ExpressionMap("z + 0.5")):
+                warp(img, m, grid=g, antialias="none", threads=1)
+                warp(img, m, grid=g, antialias="area", threads=1)
+
+    def coords() -> None:
+        spec = fast.kernel_spec(zoom)
+        fast.source_coords(spec, (8, 16), (8, 16), threads=1)
+        one = np.ones(1)
+        fast.subsample_coords(spec, (8, 16), (8, 16), one, one, one * 0.5, one * 0.5, threads=1)
+
+    steps.append(("spec_coords", coords))
     for img in _images():
         steps.append((f"sample_csr {img.dtype}", lambda img=img: by_samples(img, False)))
         steps.append((f"area_batch {img.dtype}", lambda img=img: by_samples(img, True)))
         steps.append((f"WarpMap {img.dtype}", lambda img=img: cached(img)))
+        steps.append((f"grids {img.dtype}", lambda img=img: grids(img)))
     return steps
 
 

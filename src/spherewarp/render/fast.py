@@ -373,24 +373,37 @@ def _column_tables(w_out: int) -> tuple[NDArray[np.float64], NDArray[np.float64]
 # -- entry points ----------------------------------------------------------------------------------
 def render_spec(
     src: NDArray,
-    spec: KernelSpec,
+    plan: Any,
     out: NDArray,
     *,
-    interp: str,
-    aa: tuple[str, int],
     background: NDArray[np.float32],
-    threads: int | None = None,
     progress: Callable[[int, int], None] | None = None,
+    interp: str | None = None,
+    aa: tuple[str, int] | None = None,
+    threads: int | None = None,
 ) -> None:
-    """Fill ``out`` (``(H, W, C or C+1)``, the input's dtype) with the pull-back of ``src``.
+    """Fill ``out`` (``(H, W, C or C+1)``, the input's dtype) with the pull-back of ``src``
+    by a render plan (:class:`~spherewarp.render.plan.Plan`, path ``"compiled"``).
 
-    ``aa`` is ``(mode, n)`` from :func:`~spherewarp.render.antialias.parse_antialias`.
-    With one channel more in ``out`` than in ``src``, the last is alpha.
-    ``progress(done, total)``: called from this thread with the tiles finished
+    The plan has decided everything: the stages, the interpolation, the resolved
+    anti-aliasing, whether a pixel shrinks somewhere, the threads. (A
+    :class:`KernelSpec` instead of a plan, with ``interp``, ``aa`` and ``threads``,
+    is planned here by :func:`~spherewarp.render.plan.spec_plan`: for benchmarks and
+    kernel tests.) With one channel more in ``out`` than in ``src``, the last is
+    alpha. ``progress(done, total)``: called from this thread with the tiles finished
     (:data:`TILE`) while the kernel runs, last with ``done == total``.
     """
+    if isinstance(plan, KernelSpec):
+        from .plan import spec_plan
+
+        plan = spec_plan(
+            plan, src.shape[:2], out.shape[:2], interp or "bilinear", aa or ("none", 1), threads
+        )
     k = _kernels()
     src = _native(src)
+    spec = plan.spec
+    interp = plan.interp
+    threads = plan.threads
     h_in, w_in, _ = src.shape
     h_out, w_out, _ = out.shape
     kx, ky = w_in / (2 * np.pi), h_in / np.pi
@@ -398,16 +411,12 @@ def render_spec(
     aa_kx *= _aa.AUTO_DENSITY
     aa_ky *= _aa.AUTO_DENSITY
     tol = float(_aa.AUTO_TOLERANCE)
-    shrinks = spec.max_scale * max(aa_kx, aa_ky) > 1.0 + tol
-    aa = _aa.resolve_auto(aa, interp, shrinks)
-    if aa[0] == "area" and interp != "bilinear":
-        aa = _aa.AREA_FALLBACK
-    mode, n = aa
+    mode, n = plan.antialias
     area = mode == "area"
     cap = _aa.AUTO_MAX if mode in ("adaptive", "area") else max(1, n)
-    do_aa = mode in ("uniform", "area") or (mode == "adaptive" and shrinks)
+    do_aa = not plan.single_tap
     uniform = n if mode == "uniform" else 0
-    jumps = bool(np.isin(spec.codes, jump_codes()).any())
+    jumps = plan.jumps
     rho_in = min(math.pi / h_in, 2 * math.pi / w_in)
     # jump pixels get JUMP_SAMPLES per axis whatever the cap: the tables must cover them
     tabs = _offset_tables((h_out, w_out), max(cap, _aa.JUMP_SAMPLES))

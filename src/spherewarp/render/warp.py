@@ -37,10 +37,11 @@ from .. import coords
 from ..errors import InvalidTypeError, InvalidValueError
 from ..maps.base import SphereMap
 from . import antialias as _aa
-from .sampling import check_interp, sample, sample_area
+from .sampling import sample, sample_area
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..grids import Grid
+    from .plan import Plan
 
 __all__ = ["warp", "push", "check_equirect", "as_image"]
 
@@ -239,6 +240,28 @@ def warp(
         raise InvalidTypeError(
             f"expected a map (a spherewarp.maps.SphereMap), got {type(inverse_map).__name__}"
         )
+    images = _check_images(image, force)
+    if inverse_map.n_sheets > len(images):
+        raise InvalidValueError(
+            f"this map samples {inverse_map.n_sheets} input images, got {len(images)}"
+        )
+    if progress is not None and not callable(progress):
+        raise InvalidTypeError(
+            f"expected progress to be a callable (done, total), got {type(progress).__name__}"
+        )
+    from .plan import Options, plan
+
+    options = Options(
+        interp=interp, antialias=antialias, supersample=supersample, method=method,
+        threads=threads, background=background, alpha=alpha,
+    )  # fmt: skip
+    p = plan(inverse_map, grid, images[0].shape[:2], output_shape, options, n_images=len(images))
+    return p.run(images, progress=progress)
+
+
+def _check_images(image: ArrayLike | Sequence[ArrayLike], force: bool) -> list[NDArray]:
+    """The input image(s) as a list of native ``(H, W, C)`` arrays of one dtype and
+    channel count, each equirectangular (2:1) unless ``force``."""
     if isinstance(image, np.ndarray) or not isinstance(image, Sequence):
         images = [as_image(image)]
     else:
@@ -253,141 +276,13 @@ def warp(
                 "expected images of one dtype and channel count, got "
                 f"{images[0].dtype}/{images[0].shape[2]} and {im.dtype}/{im.shape[2]} (image {k})"
             )
-    if inverse_map.n_sheets > len(images):
-        raise InvalidValueError(
-            f"this map samples {inverse_map.n_sheets} input images, got {len(images)}"
-        )
-    interp = check_interp(interp)
-    aa = _aa.parse_antialias(antialias, supersample)
-    method = check_method(method)
-    if threads is not None and (
-        isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1
-    ):
-        raise InvalidValueError(f"expected threads to be a positive integer, got {threads!r}")
-    if progress is not None and not callable(progress):
-        raise InvalidTypeError(
-            f"expected progress to be a callable (done, total), got {type(progress).__name__}"
-        )
-    h_in, w_in, channels = images[0].shape
-    if grid is not None:
-        from ..grids import Grid
-
-        if not isinstance(grid, Grid):
-            raise InvalidTypeError(
-                f"expected grid to be a spherewarp.grids.Grid, got {type(grid).__name__}"
-            )
-        if output_shape is not None and tuple(output_shape) != grid.shape:
-            raise InvalidValueError(
-                f"expected output_shape None or the grid's {grid.shape}, got {output_shape!r}"
-            )
-        output_shape = grid.shape
-        if grid.name == "equirect" and not grid.is_identity:
-            # a turned panorama: the map after v360's view rotation, on the fast path
-            from ..maps import Mobius
-
-            turn = Mobius.from_yaw_pitch_roll(grid.look_at[0], grid.look_at[1], grid.roll)
-            inverse_map = inverse_map @ turn
-            grid = None
-        elif grid.is_identity:
-            grid = None
-    if output_shape is None:
-        output_shape = (h_in, w_in)
-    try:
-        h_out, w_out = (int(v) for v in output_shape)
-    except (TypeError, ValueError):
-        raise InvalidValueError(
-            f"expected output_shape as (height, width), got {output_shape!r}"
-        ) from None
-    if h_out < 1 or w_out < 1 or h_out * w_out > 1 << 30:
-        raise InvalidValueError(
-            f"expected a positive output shape of at most 2**30 pixels, got {output_shape!r}"
-        )
-
-    dtype = images[0].dtype
-    has_alpha = channels in (2, 4)
-    add_alpha = alpha and not has_alpha
-    bg = _background(background, channels)
-    out_channels = channels + (1 if add_alpha else 0)
-    out = np.empty((h_out, w_out, out_channels), dtype=dtype)
-
-    from . import fast
-
-    if method == "fast" and not fast.available():
-        raise InvalidValueError(
-            "method='fast' needs numba (pip install numba), which is not importable here"
-        )
-    if grid is not None:
-        from ..grids.render import render_into
-
-        sampler = "fast" if method != "reference" and fast.available() else "reference"
-        render_into(images, inverse_map, grid, out, interp, aa, bg, sampler, threads, progress)
-        return out
-    single = inverse_map.n_sheets <= 1
-    spec = fast.kernel_spec(inverse_map) if single and fast.available() else None
-    if aa[0] == "auto":
-        shrinks = shrinks_somewhere(inverse_map, (h_in, w_in), (h_out, w_out), spec)
-        aa = _aa.resolve_auto(aa, interp, shrinks)
-    if aa[0] == "area" and interp != "bilinear":  # the area filter is of the bilinear surface
-        aa = _aa.AREA_FALLBACK
-    if method != "reference" and fast.available():
-        if spec is not None:
-            fast.render_spec(
-                images[0], spec, out, interp=interp, aa=aa, background=bg, threads=threads,
-                progress=progress,
-            )  # fmt: skip
-            return out
-        _warp_by_samples(images, inverse_map, out, interp, aa, bg, "fast", threads, progress)
-        return out
-    if aa[0] in ("adaptive", "area"):
-        _warp_by_samples(images, inverse_map, out, interp, aa, bg, "reference", None, progress)
-    else:
-        _warp_reference(images, inverse_map, out, interp, aa[1], bg, add_alpha, progress)
-    return out
+    return images
 
 
 def _rows_done(progress: Callable[[int, int], None] | None, done: int, total: int) -> None:
     """Report ``done`` of ``total`` output rows (when there is a ``progress`` callback)."""
     if progress is not None:
         progress(done, total)
-
-
-def shrinks_somewhere(
-    inverse_map: SphereMap,
-    in_shape: tuple[int, int],
-    out_shape: tuple[int, int],
-    spec: Any = None,
-) -> bool:
-    """Whether an output pixel somewhere covers more than about one input pixel.
-
-    From the bound on the magnification of a map with compiled stages
-    (``spec``, :func:`spherewarp.render.fast.kernel_spec`), else from the map's
-    :meth:`~spherewarp.maps.SphereMap.local_scale` on a 64 x 128 grid of the
-    output. ``antialias="auto"`` filters every pixel by its footprint when this
-    holds (:func:`~spherewarp.render.antialias.resolve_auto`).
-
-    Examples
-    --------
-    >>> from spherewarp.maps import Mobius
-    >>> shrinks_somewhere(Mobius.from_yaw_pitch_roll(30, 20, 10), (512, 1024), (512, 1024))
-    False
-    >>> shrinks_somewhere(Mobius.zoom((0, 0), 2), (512, 1024), (512, 1024))
-    True
-    >>> shrinks_somewhere(Mobius.identity(), (512, 1024), (256, 512))   # a downscale
-    True
-    """
-    kx, ky = _aa.footprint_factors(in_shape, out_shape)
-    limit = 1.0 + _aa.AUTO_TOLERANCE
-    if max(kx, ky) > limit:
-        return True
-    if spec is not None:
-        return bool(spec.max_scale * max(kx, ky) > limit)
-    h, w = 64, 128
-    px = np.stack(np.broadcast_arrays(np.arange(w)[None, :] + 0.5, np.arange(h)[:, None] + 0.5), -1)
-    zw = coords.cp1_from_lonlat(coords.lonlat_from_pixel(px.reshape(-1, 2), w, h))
-    with np.errstate(all="ignore"):
-        scale = np.nan_to_num(np.asarray(inverse_map.local_scale(zw), np.float64), nan=1.0,
-                              posinf=1e6)  # fmt: skip
-    return bool(scale.max(initial=0.0) * max(kx, ky) > limit)
 
 
 def _warp_reference(
@@ -447,13 +342,9 @@ def _warp_reference(
 
 def _warp_by_samples(
     images: list[NDArray],
-    inverse_map: SphereMap,
+    plan: Plan,
     out: NDArray,
-    interp: str,
-    aa: tuple[str, int],
     bg: NDArray[np.float32],
-    sampler: str,
-    threads: int | None,
     progress: Callable[[int, int], None] | None = None,
 ) -> None:
     """Any map, any anti-aliasing: NumPy geometry, sample lists per pixel.
@@ -461,10 +352,14 @@ def _warp_by_samples(
     Rows are handled in bands; in each, the pixels' sample counts come from
     the anti-aliasing mode (adaptive: the map's ``local_scale``), and the
     samples are evaluated in batches of at most ``_SAMPLE_BATCH``. The
-    samples are averaged by the compiled sampler (``sampler="fast"``, one
+    samples are averaged by the compiled sampler (the plan's sampler ``"fast"``, one
     sheet) or by NumPy (``"reference"``, any number of sheets).
     """
-    mode, n = aa
+    inverse_map, interp, threads = plan.inverse_map, plan.interp, plan.threads
+    sampler = plan.sampler
+    mode, n = plan.antialias
+    if sampler == "reference":
+        threads = None
     if mode == "area":  # compiled area taps sheet by sheet
         _warp_area(images, inverse_map, out, bg, sampler, threads, progress)
         return
