@@ -1946,6 +1946,235 @@ def area_u8(p64, tail, big, w_in, h_in, c, U, V, BX, BY, n, res, sc, packed):
     area_blend_u8(Q, WX, WY, res, F, n, c, packed)
 
 
+# -- uint8 nearest and bicubic: whole pixels a load, the scalar sampler's arithmetic -------------
+@njit(**_H)
+def nearest_u8(p64, tail, big, w_in, h_in, c, U, V, n, res):
+    """Nearest taps of a uint8 image into packed ``res``: one unaligned load a pixel,
+    folded and wrapped as :func:`acc_sample` (so the same pixels as its ``NEAREST``)."""
+    lom = (np.uint64(1) << np.uint64(8 * c)) - np.uint64(1)
+    W = np.int64(w_in)
+    H = np.int64(h_in)
+    for k in range(n):
+        uk = U[k] if abs(U[k]) < 1e6 else 0.0  # NaN or huge: 0 (as taps_u8)
+        vk = V[k] if abs(V[k]) < 1e6 else 0.0
+        ix = np.int64(math.floor(uk + 0.5))
+        iy = np.int64(math.floor(vk + 0.5))
+        if iy < 0 or iy >= H or ix < 0 or ix >= W:  # (inside, _fold is the identity)
+            iy, ix = _fold(iy, ix, h_in, w_in)
+        i = iy * W + ix
+        q = p64[i] if i < big else tail[i - big]
+        res[k] = np.uint32(q & lom)
+
+
+@njit(inline="always", **_H)
+def _cubic_blend_c(Q, F, res, n, c):
+    sh = np.uint64(8 * c)
+    m = np.uint64(255)
+    lo = np.float32(0.0)
+    hi = np.float32(255.0)
+    for k in range(n):
+        wx0, wx1, wx2, wx3 = _cubic(F[0, k])
+        wy0, wy1, wy2, wy3 = _cubic(F[1, k])
+        r = np.uint32(0)
+        for ch in range(c):
+            s0 = np.uint64(8 * ch)
+            s1 = s0 + sh
+            acc = np.float32(0.0)
+            for dy in range(4):
+                # the expression of acc_sample's bicubic branch, term for term
+                wy = wy0 if dy == 0 else (wy1 if dy == 1 else (wy2 if dy == 2 else wy3))
+                qa = Q[2 * dy, k]
+                qb = Q[2 * dy + 1, k]
+                row = (
+                    wx0 * np.float32((qa >> s0) & m)
+                    + wx1 * np.float32((qa >> s1) & m)
+                    + wx2 * np.float32((qb >> s0) & m)
+                    + wx3 * np.float32((qb >> s1) & m)
+                )
+                acc = np.float32(acc + wy * row)
+            val = min(max(np.rint(acc), lo), hi)
+            r |= np.uint32(val) << np.uint32(8 * ch)
+        res[k] = r
+
+
+@njit(**_H)
+def cubic_u8(p64, tail, big, w_in, h_in, c, U, V, n, res, sc):
+    """Bicubic taps of a uint8 image into packed ``res``: the 4 x 4 pixels as 8 loads
+    of two (:func:`area_gather_u8`), then the float32 arithmetic of
+    :func:`acc_sample` and :func:`finish_pixel` (so the same pixels). ``sc``: the
+    area scratch of :func:`area_u8` (``X0``, ``Y0``, ``Q``, and ``F`` for the
+    fractions)."""
+    _, _, X0, Y0, Q, _, F = sc
+    for k in range(n):
+        uk = U[k] if abs(U[k]) < 1e6 else 0.0  # NaN or huge: 0 (as taps_u8)
+        vk = V[k] if abs(V[k]) < 1e6 else 0.0
+        fu = math.floor(uk)
+        fv = math.floor(vk)
+        X0[k] = np.int32(fu) - np.int32(1)
+        Y0[k] = np.int32(fv) - np.int32(1)
+        F[0, k] = np.float32(uk - fu)
+        F[1, k] = np.float32(vk - fv)
+    area_gather_u8(p64, tail, big, w_in, h_in, c, X0, Y0, n, Q)
+    if c == 3:
+        _cubic_blend_c(Q, F, res, n, 3)
+    elif c == 4:
+        _cubic_blend_c(Q, F, res, n, 4)
+    elif c == 1:
+        _cubic_blend_c(Q, F, res, n, 1)
+    else:
+        _cubic_blend_c(Q, F, res, n, 2)
+
+
+@njit(**_V)
+def _one_tap_px(T, G, V, valid, n, cl, hi, aa_kx, aa_ky, thr, small):
+    """Which pixels of the area filter take one bilinear tap: ``small[k]`` where the
+    footprint's box in the input's chart is at most ``thr`` input pixels a side,
+    bounded from the magnification ``s = G / T``: the footprint's axes on the sphere
+    are ``s * kx * cos(lat)`` and ``s * ky`` equatorial input pixels, and the chart
+    stretches the east one by ``1 / cos(lat_src)``. Returns how many."""
+    kv = PI / hi
+    ext = max(aa_kx * cl, aa_ky)
+    cnt = 0
+    for k in range(n):
+        t = T[k]
+        s = min(G[k] / t, 1e9) if t > 0.0 else 1e9
+        vk = V[k] if abs(V[k]) < 1e6 else 0.0
+        cs = fsincos(kv * (vk + 0.5))[0]  # cos(latitude) of the source
+        ok = (valid[k] != 0) and (s * ext <= thr * cs)
+        small[k] = ok
+        cnt += ok
+    return cnt
+
+
+@njit(inline="always", **_H)
+def _row_integral(P, ti, ch, x, w):
+    """``int_0^x`` of row ``ti``'s linear interpolant (samples at integers, periodic in
+    ``w``) from its prefix sums ``P[ti, k, ch] = sum of the first k samples`` (``k = 0 ..
+    w + 1``, the last past the seam)."""
+    wf = np.float64(w)
+    q = math.floor(x / wf)
+    x0 = x - q * wf
+    n = min(max(np.int64(x0), 0), w - 1)
+    t = x0 - n
+    a = P[ti, n, ch]
+    b = P[ti, n + 1, ch]
+    d = P[ti, n + 2, ch]
+    return (
+        q * P[ti, w, ch]
+        + 0.5 * (a + b - P[ti, 1, ch])
+        + t * (b - a)
+        + (0.5 * t * t) * (d - 2.0 * b + a)
+    )
+
+
+@njit(inline="always", **_H)
+def _row_integral2(P, Q, ti, ch, x, w):
+    """``int_0^x int_0^s`` of row ``ti``'s linear interpolant (periodic in ``w``): its
+    second antiderivative, from the prefix sums ``P`` (:func:`_row_integral`) and
+    ``Q[ti, k, ch]``, the second antiderivative at the integers ``k = 0 .. w``."""
+    wf = np.float64(w)
+    q = math.floor(x / wf)
+    x0 = x - q * wf
+    n = min(max(np.int64(x0), 0), w - 1)
+    t = x0 - n
+    a = P[ti, n, ch]
+    b = P[ti, n + 1, ch]
+    d = P[ti, n + 2, ch]
+    g = 0.5 * (a + b - P[ti, 1, ch])  # the first antiderivative at n
+    pn = b - a
+    f2 = Q[ti, n, ch] + t * g + (0.5 * t * t) * pn + (t * t * t / 6.0) * (d - b - pn)
+    return q * Q[ti, w, ch] + P[ti, w, ch] * (wf * q * (q - 1.0) * 0.5 + q * x0) + f2
+
+
+@njit(**_H)
+def _slivers(U, V, BX, BY, J, special, valid, n, h, w, c, PQ, tindex, limit, bend, slv, SL):
+    """The sliver taps of :data:`~spherewarp.render.antialias.AREA_SLIVER_BOX`: each
+    special pixel with a footprint (``J`` not cleared) whose box is at most ``limit``
+    input pixels high and whose 4 rows have prefix sums (``tindex``: an input row's
+    row of ``P``, or -1) is the bilinear surface averaged over its whole box ``BX x
+    BY`` exactly, the tent-times-box weights of :func:`_area_weights` across the rows
+    and along them the footprint's own spread: the convolution of boxes as wide as its
+    two steps' ``u`` components (a trapezoid, as the parallelogram's shadow on the
+    row), from the rows' second antiderivatives (:func:`_row_integral2`; a box where
+    one step is negligible, :func:`_row_integral`), into ``SL[ch, k]``; it is no longer
+    special (``slv[k] = 1``). ``PQ``: the prefix sums and the second ones. Only where
+    the chart keeps the footprint straight: a straight piece of the sphere at ``d`` rows
+    from a pole, ``dl`` radians of longitude either side of its centre, bends by about
+    ``d dl^2 / 2`` rows in the chart, which must be at most ``bend``. Returns how many."""
+    P = PQ[0]
+    Q = PQ[1]
+    half = w // 2
+    cnt = 0
+    for k in range(n):
+        slv[k] = 0
+        if not special[k] or valid[k] == 0 or BY[k] > limit:
+            continue
+        if J[0, k] == 0.0 and J[1, k] == 0.0 and J[2, k] == 0.0 and J[3, k] == 0.0:
+            continue  # on a jump: plain taps
+        u = U[k]
+        v = V[k]
+        by = min(max(BY[k], 1e-3), 2.0)
+        yf = math.floor(v) - 1.0
+        y0 = np.int64(yf)
+        ty = yf - v
+        hy = 0.5 * by
+        ok = True
+        for d in range(4):
+            iy = y0 + d
+            iy = -1 - iy if iy < 0 else (2 * h - 1 - iy if iy >= h else iy)
+            iy = min(max(iy, 0), h - 1)
+            if tindex[iy] < 0:
+                ok = False
+        if not ok:
+            continue
+        ea = abs(J[0, k])
+        eb = abs(J[1, k])
+        lo = min(ea, eb)
+        hi = max(max(ea, eb), 1e-3)
+        box = lo < 1e-2 * hi  # one step along the row: a box
+        hx = 0.5 * hi
+        dp = min(v + 0.5, h - (v + 0.5))  # rows to the nearest pole
+        dl = (0.5 * (ea + eb)) * (TWO_PI / w)
+        if dp * dl * dl * 0.5 > bend:
+            continue
+        s1 = 0.5 * (ea + eb)
+        s2 = 0.5 * abs(ea - eb)
+        iab = 1.0 / (ea * eb) if not box else 0.0
+        for ch in range(c):
+            SL[ch, k] = 0.0
+        for d in range(4):
+            wy = (_tent_integral(ty + d + hy) - _tent_integral(ty + d - hy)) / by
+            if wy == 0.0:
+                continue
+            iy = y0 + d
+            sh = 0.0
+            if iy < 0:  # fold over the pole: row -1 - iy, half a turn round
+                iy = -1 - iy
+                sh = np.float64(half)
+            elif iy >= h:
+                iy = 2 * h - 1 - iy
+                sh = np.float64(half)
+            ti = tindex[min(max(iy, 0), h - 1)]
+            x = u + sh
+            for ch in range(c):
+                if box:
+                    a = _row_integral(P, ti, ch, x - hx, w)
+                    b = _row_integral(P, ti, ch, x + hx, w)
+                    SL[ch, k] += wy * (b - a) / hi
+                else:
+                    f = (
+                        _row_integral2(P, Q, ti, ch, x + s1, w)
+                        - _row_integral2(P, Q, ti, ch, x + s2, w)
+                        - _row_integral2(P, Q, ti, ch, x - s2, w)
+                        + _row_integral2(P, Q, ti, ch, x - s1, w)
+                    )
+                    SL[ch, k] += wy * f * iab
+        slv[k] = 1
+        special[k] = 0
+        cnt += 1
+    return cnt
+
+
 # -- tiles -----------------------------------------------------------------------------------------
 @njit(**_H)
 def _layout(img, dst, ho, wo, th, tw):
@@ -1973,15 +2202,16 @@ def _tile(t, ntx, th, tw, ho, wo):
 def render_spec(
     img, p64, tail, big, o32, dst, ho, wo, co, fast_u8, fast_f32, fimg,
     codes, params, ccos, csin, tabs, kx, ky,
-    do_aa, aa_kx, aa_ky, tol, cap, uniform, jumps, rho, jmin, area,
-    interp, bg, is_int, maxval, full, th, tw, prog, wk, nw,
+    do_aa, aa_kx, aa_ky, tol, cap, uniform, jumps, rho, jmin, area, one_tap,
+    sl_p, sl_index, sl_box, sl_bend, interp, bg, is_int, maxval, full, th, tw, prog, wk, nw,
 ):  # fmt: skip
     """Render an equirectangular output through the stages of a map.
 
     ``img``, ``dst``: input and flat output bundles (one array per sample
     type, so that one compiled kernel serves them all; see
-    ``fast._image_bundle``). ``fast_u8``: uint8 bilinear through the
-    two-taps-a-load path (``p64``, ``tail``, ``o32`` are the unaligned views);
+    ``fast._image_bundle``). ``fast_u8``: a uint8 image whose one-tap pixels go
+    through the whole-pixel loads (``p64``, ``tail``, ``o32`` are the unaligned
+    views): bilinear two taps a load, nearest one load, bicubic 8 loads of two;
     ``fast_f32``: float32 bilinear through vectorised taps (``fimg``: the image,
     flat); otherwise the scalar float32 sampler. ``do_aa``: compute samples per pixel
     (``uniform > 0``: that many per axis; else adaptive from the magnification).
@@ -1992,7 +2222,13 @@ def render_spec(
     ``area`` (with ``do_aa``, ``uniform = 0``): every pixel is an area tap over
     its footprint, split into parts where an axis of the footprint is over about
     1.5 input pixels (:func:`_area_counts`; the taps: :func:`area_u8` in fixed
-    point for uint8, :func:`area_batch` otherwise). ``prog``: int64 progress
+    point for uint8, :func:`area_batch` otherwise), except that a pixel whose
+    footprint's box is at most ``one_tap`` input pixels a side (bounded from the
+    magnification, :func:`_one_tap_px`) takes one bilinear tap; a chunk made of
+    such pixels skips the footprints. A footprint to split that is a sliver (its box
+    at most ``sl_box`` high, ``sl_box > 0``) is one exact tap of its whole box from the
+    rows' prefix sums ``sl_p`` (``sl_index``: the row of ``sl_p`` of each input row, or
+    -1; :func:`_slivers`). ``prog``: int64 progress
     counters, ``PROGRESS_STRIDE`` apart (a cache line each); worker ``wk`` adds
     one to ``prog[wk * PROGRESS_STRIDE]`` per tile finished (no atomics: one
     writer per slot), which the caller may read while the kernel runs; the
@@ -2039,8 +2275,15 @@ def render_spec(
     BYc = np.empty(tw)
     keep = np.empty(tw, np.uint8)
     AS = np.empty((3, tw + 1 if area else 1))
-    area_px = area and fast_u8  # area taps in fixed point (uint8)
-    nau = na if area_px else 1
+    fast_bl = fast_u8 and interp == BILINEAR  # uint8 bilinear, two taps a load
+    area_px = area and fast_bl  # area taps in fixed point (uint8)
+    nn_px = fast_u8 and interp == NEAREST and not area  # uint8 nearest, a load a pixel
+    cu_px = fast_u8 and interp == BICUBIC and not area  # uint8 bicubic, 8 loads a pixel
+    nau = na if area_px else (tw if cu_px else 1)
+    small = np.zeros(tw, np.uint8)
+    res2 = np.empty(tw, np.uint32)
+    slv = np.zeros(tw, np.uint8)
+    SL = np.empty((c, tw))
     asc = (np.empty((4, nau), np.int32), np.empty((4, nau), np.int32), np.empty(nau, np.int32),
           np.empty(nau, np.int32), np.empty((8, nau), np.uint64), np.empty(nau, np.uint32),
           np.empty((4, nau), np.float32))  # fmt: skip
@@ -2055,9 +2298,9 @@ def render_spec(
     valid[:] = 1
     # jump mode: rows above / current / below (slots rotate), each w + 2 columns
     jm = jumps and do_aa and uniform == 0 and not mob1
-    fast_px = fast_u8 and not area  # centre taps through the uint8 bilinear path
+    fast_px = fast_bl and not area  # centre taps through the uint8 bilinear path
     fast_fpx = fast_f32 and not area  # centre taps through the float32 bilinear path
-    direct = fast_px or fast_fpx  # centre taps written straight to the output
+    direct = fast_px or fast_fpx or nn_px or cu_px  # centre taps written straight out
     nf = tw if fast_f32 else 1
     fI = np.empty((4, nf), np.int64)
     fT = np.empty((2, nf), np.float32)
@@ -2069,11 +2312,11 @@ def render_spec(
     js = jtmp[1]
     jT = jtmp[2]
     jG = jtmp[3]
-    nu8 = nsb if fast_u8 else 1
+    nu8 = nsb if fast_bl else 1
     bi32 = np.empty((2, nu8), np.int32)
     bq = np.empty((2, nu8), np.uint64)
     u8 = (
-        fast_u8, p64, tail, big, big_w, shift, lom, bi32[0], bi32[1],
+        fast_bl, p64, tail, big, big_w, shift, lom, bi32[0], bi32[1],
         np.empty(nu8, np.uint16), bq[0], bq[1], np.empty(nu8, np.uint32),
     )  # fmt: skip
     stop = prog.shape[0] - 1  # the caller sets this slot to cancel (Ctrl-C)
@@ -2124,7 +2367,15 @@ def render_spec(
                 run_stages(codes, params, T, X, Y, Z, G, valid, w)
                 to_source(X, Y, Z, w, kx, ky, U, V)
             nsp = 0
+            nsmall = 0
             if area:
+                nsmall = _one_tap_px(T, G, V, valid, w, cl, hi, aa_kx, aa_ky, one_tap, small)
+            if area and nsmall == w:  # one tap a pixel: no footprints
+                for k in range(w):
+                    nx[k] = 1
+                    ny[k] = 1
+                    special[k] = 0
+            elif area:
                 _edge_source(cl, sl, ecc, ecs, codes, params, mob1, kx, ky, EF, evalid)
                 nsp = _area_counts(
                     U, V, valid, w, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BXc, BYc, AS,
@@ -2142,6 +2393,16 @@ def render_spec(
                     nsp += special[k]
                     nx[k] = 1
                     ny[k] = 1
+            nsl = 0
+            if area and nsp > 0 and sl_box > 0.0:
+                nsl = _slivers(U, V, BXc, BYc, J, special, valid, w, hi, wi, c, sl_p, sl_index,
+                               sl_box, sl_bend, slv, SL)  # fmt: skip
+                nsp -= nsl
+                if nsl > 0:
+                    for k in range(w):
+                        if slv[k]:
+                            nx[k] = 1
+                            ny[k] = 1
             p0 = i * wo + tx0
             if fast_px:
                 taps_u8(U, V, w, wi, hi, big, oa, ob, wt)
@@ -2155,8 +2416,34 @@ def render_spec(
                 blend_f32(fimg, fI, fT[0], fT[1], dst[2], p0 * c, w, c)
                 if nsp == 0:
                     continue
+            elif nn_px:
+                nearest_u8(p64, tail, big, wi, hi, c, U, V, w, res)
+                store_u8(res, o32, p0, obytes, p0 * c, w, c, spill)
+                if nsp == 0:
+                    continue
+            elif cu_px:
+                cubic_u8(p64, tail, big, wi, hi, c, U, V, w, res, asc)
+                store_u8(res, o32, p0, obytes, p0 * c, w, c, spill)
+                if nsp == 0:
+                    continue
             elif area_px:
-                area_u8(p64, tail, big, wi, hi, c, U, V, BXc, BYc, w, res, asc, True)
+                if nsmall < w:
+                    area_u8(p64, tail, big, wi, hi, c, U, V, BXc, BYc, w, res, asc, True)
+                if nsmall > 0:  # one bilinear tap where the footprint is under a pixel
+                    taps_u8(U, V, w, wi, hi, big, oa, ob, wt)
+                    gather_u8(p64, tail, big, big_w, shift, lom, oa, ob, qa, qb, w)
+                    blend_u8(qa, qb, wt, res2 if nsmall < w else res, w, c)
+                    if nsmall < w:
+                        for k in range(w):
+                            res[k] = res2[k] if small[k] else res[k]
+                if nsl > 0:
+                    for k in range(w):
+                        if slv[k]:
+                            r = np.uint32(0)
+                            for ch in range(c):
+                                val = min(max(np.rint(SL[ch, k]), 0.0), 255.0)
+                                r |= np.uint32(val) << np.uint32(8 * ch)
+                            res[k] = r
                 store_u8(res, o32, p0, obytes, p0 * c, w, c, spill)
                 if nsp == 0:
                     continue
@@ -2165,8 +2452,19 @@ def render_spec(
             if area and not area_px:
                 for k in range(w):
                     keep[k] = special[k] == 0
+                    if small[k]:  # a box of (nearly) nothing: the bilinear tap
+                        BXc[k] = 0.0
+                        BYc[k] = 0.0
+                    if nsl > 0 and slv[k]:  # its tap is taken
+                        keep[k] = 0
                 WS, X0, Y0 = ascr
                 area_batch(img, U, V, BXc, BYc, w, keep, ident, acc, cover, WS, X0, Y0)
+                if nsl > 0:
+                    for k in range(w):
+                        if slv[k]:
+                            for ch in range(c):
+                                acc[k, ch] = np.float32(SL[ch, k])
+                            cover[k] = 1
             elif not direct and not area:
                 for k in range(w):
                     if not special[k]:

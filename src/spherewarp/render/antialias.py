@@ -75,6 +75,7 @@ __all__ = [
     "area_footprints",
     "footprint_factors",
     "jump_mask",
+    "one_tap_pixels",
     "parse_antialias",
     "resolve_auto",
     "sample_counts",
@@ -96,6 +97,27 @@ JUMP_SAMPLES = 4
 #: it into ``ceil(length / AREA_SPLIT - AUTO_TOLERANCE)`` parts (one area tap holds a box of
 #: up to 2 x 2 input pixels, and a turned part of ``sqrt 2`` fits in one)
 AREA_SPLIT = math.sqrt(2.0)
+#: in ``"area"``, a pixel whose footprint's box in the input's chart is at most this many
+#: input pixels a side (bounded from the magnification ``s``: ``s * max(kx cos(lat), ky) <=
+#: AREA_ONE_TAP * cos(lat_src)``, see :func:`one_tap_pixels`) takes one bilinear tap instead
+#: of 4x4 taps and a footprint. Not 1 (every pixel that does not shrink): the box average of
+#: the bilinear surface over a footprint of 0.5 to 1 input pixels is what heavy supersampling
+#: gives, and a single tap there was 2.4 dB (0.5) to 8.2 dB (1) further from 16x16 on a zoom by
+#: 2.5 of forest.png (bench/speed.py), and on the stripes of tests/render/test_antialias.py
+#: (a zoom by 6) the RMS error grew by 7% at 0.2 and 74% at 0.35; at 0.1 nothing changes
+AREA_ONE_TAP = 0.1
+#: in ``"area"`` (compiled), a footprint that needs splitting but whose box is at most this
+#: many input pixels high (a sliver along the rows: the footprints near the input's poles,
+#: where the chart stretches the rows) is one exact tap of its whole box instead of parts
+#: pulled back through the map: the rows' averages from prefix sums (:data:`AREA_SLIVER_ROWS`).
+#: Off (0) by default: on the exp variant (forest.png, 1024x512, bench/speed.py) 0.25 took
+#: 0.6x the time of the parts but lost 0.6 dB against 16x16 supersampling (0.1: 0.87x, 0.44 dB)
+AREA_SLIVER_BOX = 0.0
+#: the input rows whose prefix sums the sliver taps read: those with ``cos(lat)`` under this
+AREA_SLIVER_ROWS = 0.25
+#: a sliver tap only where the chart bends the footprint by at most this many input rows (a
+#: straight piece of the sphere near a pole is an arc in the chart; parts follow it)
+AREA_SLIVER_BEND = 0.05
 #: what ``"area"`` renders as with interpolations other than bilinear (the area filter
 #: averages the bilinear surface): uniform supersampling, which the area filter approximates
 AREA_FALLBACK = ("uniform", 4)
@@ -311,6 +333,55 @@ def resolve_auto(aa: tuple[str, int], interp: str, shrinks: bool) -> tuple[str, 
     if aa[0] != "auto":
         return aa
     return ("area", 0) if shrinks and interp == "bilinear" else ("adaptive", 0)
+
+
+def one_tap_pixels(
+    scale: NDArray[np.floating],
+    v: NDArray[np.floating],
+    valid: NDArray[np.bool_] | None,
+    lat_out: NDArray[np.floating],
+    in_shape: tuple[int, int],
+    out_shape: tuple[int, int],
+) -> NDArray[np.bool_]:
+    """Pixels that ``antialias="area"`` renders with one bilinear tap (whole output rows).
+
+    Those whose footprint's box in the input's chart is at most
+    :data:`AREA_ONE_TAP` input pixels a side, bounded from the magnification:
+    the footprint's axes on the sphere are ``s * kx * cos(lat)`` and ``s * ky``
+    equatorial input pixels (:func:`footprint_factors`), and the chart stretches
+    the east one by ``1 / cos(lat_src)``. The compiled renderer decides the same.
+
+    Parameters
+    ----------
+    scale : ndarray, shape (rows, W)
+        The map's magnification at the pixel centres.
+    v : ndarray, shape (rows, W)
+        Source rows of the pixel centres in tap space (input pixel row minus 1/2).
+    valid : ndarray of bool, shape (rows, W), or None
+    lat_out : ndarray, shape (rows,)
+        Latitude of each output row (radians).
+    in_shape, out_shape : (height, width)
+
+    Returns
+    -------
+    ndarray of bool, shape (rows, W)
+
+    Examples
+    --------
+    At the input's equator seen at its own size: a pixel magnified 4 times takes
+    one tap, one shrunk 2 times does not.
+
+    >>> one_tap_pixels(np.array([[0.25, 2.0]]), np.array([[7.5, 7.5]]), None, np.array([0.0]),
+    ...                (16, 32), (16, 32)).tolist()
+    [[True, False]]
+    """
+    kx, ky = footprint_factors(in_shape, out_shape)
+    s = np.minimum(np.nan_to_num(np.asarray(scale, np.float64), nan=1e9), 1e9)
+    ext = np.maximum(kx * np.cos(np.asarray(lat_out, np.float64)), ky)[:, None]
+    with np.errstate(invalid="ignore"):
+        cs = np.sin(np.pi / in_shape[0] * (np.nan_to_num(np.asarray(v, np.float64)) + 0.5))
+        small = s * ext <= AREA_ONE_TAP * cs
+    return small if valid is None else small & np.asarray(valid, bool)
 
 
 def area_footprints(

@@ -331,11 +331,13 @@ def _u8_views(src: NDArray[np.uint8], out: NDArray[np.uint8]) -> tuple[Any, Any,
     return _readonly(p64), _readonly(tail), big, o32
 
 
-def _fast_u8_ok(src: NDArray, out: NDArray, interp: str) -> bool:
+def _fast_u8_ok(src: NDArray, out: NDArray, interp: str | None) -> bool:
+    """Whether the uint8 whole-pixel loads serve ``interp`` (None: any interpolation;
+    the fused kernel takes nearest and bicubic through them too)."""
     return (
         _UNALIGNED_OK
         and src.dtype == np.uint8
-        and interp == "bilinear"
+        and interp in ("bilinear", None)
         and out.shape[2] == src.shape[2]
         and src.size >= 64
         and out.shape[0] * out.shape[1] >= 2
@@ -368,6 +370,37 @@ def _offset_tables(out_shape: tuple[int, int], cap: int) -> NDArray[np.float64]:
 def _column_tables(w_out: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     lon = 2 * np.pi * (np.arange(w_out) + 0.5) / w_out - np.pi
     return np.cos(lon), np.sin(lon)
+
+
+_NO_SLIVERS = (np.zeros((2, 1, 3, 1)), np.full(1, -1, np.int64), 0.0, 0.0)
+
+
+def _sliver_rows(src: NDArray, area: bool) -> tuple[NDArray, NDArray, float, float]:
+    """The prefix sums of the input rows near the poles for the area filter's sliver taps
+    (see ``_kernels._slivers``): ``(PQ, index, box)``, ``PQ[0, r, k]`` the sum of the
+    first ``k`` pixels of the ``r``-th such row (``k = 0 .. W + 1``, the last past the
+    seam), ``PQ[1, r, k]`` the second antiderivative of the row's linear interpolant at
+    ``k``, ``index`` the row of ``PQ`` of each input row (or -1), ``box`` and ``bend``
+    the limits (:data:`~spherewarp.render.antialias.AREA_SLIVER_BOX`, ``AREA_SLIVER_BEND``)."""
+    box = float(_aa.AREA_SLIVER_BOX)
+    if not area or box <= 0.0:
+        return _NO_SLIVERS
+    h, w, _ = src.shape
+    cs = np.sin(np.pi * (np.arange(h) + 0.5) / h)
+    rows = np.flatnonzero(cs < _aa.AREA_SLIVER_ROWS)
+    if rows.size == 0 or w < 2:
+        return _NO_SLIVERS
+    band = src[rows]
+    PQ = np.zeros((2, rows.size, w + 2, src.shape[2]))
+    P = PQ[0]
+    np.cumsum(band, axis=1, dtype=np.float64, out=P[:, 1 : w + 1])
+    P[:, w + 1] = P[:, w] + band[:, 0]
+    p = P[:, 1:] - P[:, :-1]  # the samples, p[w] = p[0]
+    g = 0.5 * (P[:, :-1] + P[:, 1:] - P[:, 1:2])  # the first antiderivative at the integers
+    np.cumsum(g[:, :w] + p[:, :w] / 3.0 + p[:, 1:] / 6.0, axis=1, out=PQ[1][:, 1 : w + 1])
+    index = np.full(h, -1, np.int64)
+    index[rows] = np.arange(rows.size)
+    return PQ, index, box, float(_aa.AREA_SLIVER_BEND)
 
 
 # -- entry points ----------------------------------------------------------------------------------
@@ -422,7 +455,7 @@ def render_spec(
     tabs = _offset_tables((h_out, w_out), max(cap, _aa.JUMP_SAMPLES))
     ccos, csin = _column_tables(w_out)
     is_int, maxval, full = _value_params(src.dtype)
-    fast = _fast_u8_ok(src, out, interp)
+    fast = _fast_u8_ok(src, out, None)  # the kernel picks its path by interp
     if fast:
         p64, tail, big, o32 = _u8_views(src, out)
     else:
@@ -434,6 +467,7 @@ def render_spec(
         _image_bundle(src), p64, tail, big, o32, _output_bundle(out), h_out, w_out, out.shape[2],
         fast, fast_f, fimg, spec.codes, spec.params, ccos, csin, tabs, kx, ky,
         do_aa, aa_kx, aa_ky, tol, cap, uniform, jumps, rho_in, _aa.JUMP_SAMPLES, area,
+        float(_aa.AREA_ONE_TAP), *_sliver_rows(src, area),
         INTERP_CODES[interp], np.asarray(background, np.float32), is_int, maxval, full,
         th, tw,
     )  # fmt: skip

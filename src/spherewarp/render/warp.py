@@ -540,9 +540,15 @@ def _warp_area(
             lonlat[inner][::w_out, 1], (h_in, w_in), (h_out, w_out),
             scale=scale[inner].reshape(m, w_out),
         )  # fmt: skip
+        one = _aa.one_tap_pixels(
+            scale[inner].reshape(m, w_out), np.nan_to_num(uv[:, 1] - 0.5).reshape(m, w_out),
+            None if valid is None else valid.reshape(m, w_out), lonlat[inner][::w_out, 1],
+            (h_in, w_in), (h_out, w_out),
+        ).reshape(-1)  # fmt: skip
         J = J.reshape(4, -1)
         nx = nx.reshape(-1)
         ny = ny.reshape(-1)
+        J[:, one & (nx * ny == 1)] = 0.0  # a box of (nearly) nothing: the bilinear tap
         if pb.valid is not None:  # the edges of holes: partly covered pixels
             jump = jump | _hole_edges(pb.valid.reshape(-1, w_out), a, m)
         J[:, jump] = 0.0
