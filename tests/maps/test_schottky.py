@@ -85,7 +85,7 @@ def test_invariant_under_each_generator(which):
 
 
 def test_one_generator_is_the_straight_droste():
-    from spherewarp.droste import droste_map, hole_from_radius
+    from spherewarp.effects.droste import droste_map, hole_from_radius
 
     lam, r, p = 10.0, 15.0, (-163.0, 5.0)
     s = Schottky([((p[0], p[1], r), Mobius.zoom(p, lam))])

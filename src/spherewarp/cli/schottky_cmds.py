@@ -291,7 +291,7 @@ def schottky(
         click.echo(f"schottky: {len(gens)} generator(s), depth {s.depth}")
         save_output(warp(src_img.pixels, s, **kwargs), src_img, render, command="schottky")
         return
-    from ..droste import animation_phases
+    from ..effects.droste import animation_phases
 
     for p in {p.parent for p in paths}:
         p.mkdir(parents=True, exist_ok=True)
