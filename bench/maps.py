@@ -1,7 +1,7 @@
 """Maps for the anti-aliasing benchmark that the package may not ship yet.
 
 The exp variant and a Droste map come from the package when it has them
-(``spherewarp.maps.branched.ExpMap``, ``spherewarp.droste``); otherwise the
+(``spherewarp.maps.branched.ExpMap``, ``spherewarp.effects.droste``); otherwise the
 small stand-ins below implement the paper's formulas directly.
 """
 
@@ -89,9 +89,9 @@ def exp_map(lam: float = 4.0) -> tuple[SphereMap, str]:
 
 def droste_map(scale: float = 3.0) -> tuple[SphereMap, str]:
     try:
-        from spherewarp.droste import droste_map as dm
-        from spherewarp.droste import hole_from_radius
+        from spherewarp.effects.droste import droste_map as dm
+        from spherewarp.effects.droste import hole_from_radius
 
-        return dm(hole_from_radius((0, 0), 25), scale), "spherewarp.droste.droste_map"
+        return dm(hole_from_radius((0, 0), 25), scale), "spherewarp.effects.droste.droste_map"
     except Exception:
         return DrosteCircle((0.0, 0.0), 0.22, scale), "bench.maps.DrosteCircle"

@@ -26,8 +26,11 @@ PICKS = {  # demo file stem -> README picture
     "15-peirce-torus": "peirce-torus.jpg",
 }
 
-#: the README's Schottky picture: the window onto the carpet, the framed picture onto the ceiling
-SCHOTTKY = ["--generator", "38,8,24 -> -40,-55,22", "--generator", "-163,5,9 -> -110,55,18"]
+#: the README's Schottky picture, the paper's mask workflow: the TV's screen (red) and the
+#: framed picture (green) as the disks D_a, D_b, each outside zoomed into a disk round the
+#: region's antipode (the window and the mirror)
+SCHOTTKY = ["--mask", "src/spherewarp/data/interior-mask.png", "--target", "red", "40",
+            "--target", "green", "60"]  # fmt: skip
 
 
 def main() -> None:
@@ -50,7 +53,7 @@ def main() -> None:
         )  # fmt: skip
         pixels = np.asarray(Image.open(planet).convert("RGB"))
         Image.fromarray(pixels).save(OUT / "little-planet.jpg", quality=82, optimize=True)
-        # a Schottky group: the window and the framed picture as the disks D_a, D_b
+        # a Schottky group from the bundled mask
         schottky = Path(tmp) / "schottky.png"
         subprocess.run(
             [sys.executable, "-m", "spherewarp", "schottky", str(src), *SCHOTTKY, "--size",

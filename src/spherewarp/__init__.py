@@ -19,13 +19,15 @@ Branched maps (:mod:`spherewarp.maps.branched`, :mod:`spherewarp.maps.expression
     :class:`Power` (z^n and roots about any two branch points), :class:`ExpMap`
     (the paper's exp variant), :class:`ExpressionMap` (a formula in z);
     :func:`splitscreen` (k panoramas on the k sheets of a branched cover).
-Droste (:mod:`spherewarp.maps.droste`, :mod:`spherewarp.droste`)
+Droste (:mod:`spherewarp.maps.droste`, :mod:`spherewarp.effects.droste`)
     :class:`Droste`, :class:`TwistedDroste`; frames from corners, masks or radii.
 Elliptic and rational maps (:mod:`spherewarp.maps.elliptic`, :mod:`spherewarp.maps.rational`)
     :class:`Lattes`, :class:`Rational`, :func:`fit_rational`; Weierstrass p and
     Schwarz-Christoffel in :mod:`spherewarp.special`; Peirce's quincuncial
-    projection in :mod:`spherewarp.projections`; toroidal images in
-    :mod:`spherewarp.torus`.
+    projection in :mod:`spherewarp.grids.peirce`; toroidal images in
+    :mod:`spherewarp.effects.torus`.
+Effects (:mod:`spherewarp.effects`)
+    the workflows round the maps: Droste's frames, split-screen's seams, the torus.
 The map protocol (:mod:`spherewarp.maps.base`)
     :class:`SphereMap`, :class:`PullBack`, :class:`Composite`,
     :func:`map_from_dict`, :func:`map_from_json`.
@@ -87,7 +89,7 @@ _LAZY = {
     "Lattes": "spherewarp.maps.elliptic",
     "Rational": "spherewarp.maps.rational",
     "fit_rational": "spherewarp.maps.rational",
-    "splitscreen": "spherewarp.splitscreen",
+    "splitscreen": "spherewarp.effects.splitscreen",
     "make_test_pattern": "spherewarp.testpattern",
     "make_grid": "spherewarp.grids",
     "from_grid": "spherewarp.grids",
@@ -129,6 +131,7 @@ __all__ = [
 ]
 
 if TYPE_CHECKING:  # pragma: no cover
+    from .effects.splitscreen import splitscreen
     from .grids import from_grid, make_grid
     from .io import read_image, write_image
     from .maps.base import Composite, PullBack, SphereMap, map_from_dict, map_from_json
@@ -140,7 +143,6 @@ if TYPE_CHECKING:  # pragma: no cover
     from .maps.rational import Rational, fit_rational
     from .recipe import Recipe, RecipeError
     from .render.warp import push, warp
-    from .splitscreen import splitscreen
     from .testpattern import make_test_pattern
 
 

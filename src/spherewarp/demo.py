@@ -232,7 +232,7 @@ PICTURE_FRAME = ((-173.0, 23.6), (-153.8, 24.5), (-153.8, -14.8), (-173.0, -14.2
 
 
 def _droste(d: DemoInputs, twist: bool) -> NDArray:
-    from .droste import droste_map, hole_from_corners
+    from .effects.droste import droste_map, hole_from_corners
 
     hole = hole_from_corners(PICTURE_FRAME, PICTURE)
     droste = droste_map(hole, 8.0 if twist else None, twist=twist)
@@ -258,8 +258,8 @@ def _lattes(alpha: str, lattice: str) -> SphereMap:
 
 
 def _peirce_and_torus(d: DemoInputs) -> NDArray:
-    from .projections import render_peirce
-    from .torus import render_torus
+    from .effects.torus import render_torus
+    from .grids.peirce import render_peirce
 
     h, w = d.output_shape
     side = min(h, w // 2)

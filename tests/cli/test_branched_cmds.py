@@ -9,10 +9,10 @@ import pytest
 from _cli import fails, ok, run  # noqa: F401
 
 from spherewarp.cli import COMMANDS
+from spherewarp.effects.splitscreen import splitscreen
 from spherewarp.io import read_image, write_image
 from spherewarp.maps import ExpMap, ExpressionMap, Mobius, Power
 from spherewarp.render import warp
-from spherewarp.splitscreen import splitscreen
 
 H, W = 32, 64
 

@@ -10,7 +10,7 @@ import pytest
 from _cli import ok, run  # noqa: F401
 
 from spherewarp.cli.droste_cmds import frame_paths
-from spherewarp.droste import (
+from spherewarp.effects.droste import (
     droste_image,
     droste_map,
     hole_from_corners,

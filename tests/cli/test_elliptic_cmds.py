@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 from _cli import fails, ok, run  # noqa: F401
 
+from spherewarp.effects.torus import render_torus, render_torus_texture
+from spherewarp.grids.peirce import peirce_to_equirect, render_peirce
 from spherewarp.io import read_image, write_image
 from spherewarp.maps import Lattes, Rational, map_from_dict
-from spherewarp.projections import peirce_to_equirect, render_peirce
 from spherewarp.render import warp
-from spherewarp.torus import render_torus, render_torus_texture
 
 
 @pytest.fixture

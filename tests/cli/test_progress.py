@@ -49,7 +49,7 @@ def test_progress_is_monotone_from_zero_to_total(kwargs: dict) -> None:
 
 
 def test_progress_of_several_sheets() -> None:
-    from spherewarp.splitscreen import splitscreen
+    from spherewarp.effects.splitscreen import splitscreen
 
     seen: list[tuple[int, int]] = []
     splitscreen([IMG, IMG[::-1].copy()], progress=lambda d, t: seen.append((d, t)))
@@ -57,8 +57,8 @@ def test_progress_of_several_sheets() -> None:
 
 
 def test_progress_of_peirce_and_torus() -> None:
-    from spherewarp.projections import peirce_to_equirect, render_peirce
-    from spherewarp.torus import render_torus
+    from spherewarp.effects.torus import render_torus
+    from spherewarp.grids.peirce import peirce_to_equirect, render_peirce
 
     for render in (
         lambda p: render_peirce(IMG, 600, progress=p),

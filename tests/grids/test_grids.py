@@ -225,7 +225,8 @@ def test_plain_panorama_too(noise, map_name):
 
 
 def test_peirce_and_torus_grids_are_the_existing_projections(interior):
-    from spherewarp import projections, torus
+    from spherewarp.effects import torus
+    from spherewarp.grids import peirce as projections
 
     small = interior[::4, ::4]
     g = make_grid("peirce", small.shape[:2])

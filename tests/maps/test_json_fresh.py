@@ -36,12 +36,12 @@ from spherewarp.maps import (
     map_from_json,
 )
 from spherewarp.maps.base import _REGISTRY
-from spherewarp.splitscreen import SheetedCover
+from spherewarp.maps.sheeted import SheetedCover
 
 
 def _droste(twist: bool) -> SphereMap:
     from spherewarp.demo import PICTURE, PICTURE_FRAME
-    from spherewarp.droste import droste_map, hole_from_corners
+    from spherewarp.effects.droste import droste_map, hole_from_corners
 
     hole = hole_from_corners(PICTURE_FRAME, PICTURE)
     return droste_map(hole, 8.0 if twist else None, twist=twist)

@@ -85,7 +85,7 @@ def test_invariant_under_each_generator(which):
 
 
 def test_one_generator_is_the_straight_droste():
-    from spherewarp.droste import droste_map, hole_from_radius
+    from spherewarp.effects.droste import droste_map, hole_from_radius
 
     lam, r, p = 10.0, 15.0, (-163.0, 5.0)
     s = Schottky([((p[0], p[1], r), Mobius.zoom(p, lam))])
@@ -281,14 +281,15 @@ def test_mask_regions_match_the_papers_routine():
 
 def test_mask_black_is_the_fundamental_region():
     """A point of the round disk about the red rectangle but outside the rectangle (black in
-    the mask) is fixed with the exact disks, and moved with the round ones."""
+    the mask) is fixed with the exact disks, and moved with the round ones; each compiles to
+    its own stage."""
     s, mask = _mask_map()
     r, _ = _mask_map(regions=False)
     q = coords.xyz_from_lonlat(np.radians([[0.0, 15.0], [18.0, -12.0]]))  # black, in the cap
     assert all(_label(mask, v) == -1 for v in q)
     assert np.allclose(s.apply_xyz(q), q)
     assert not np.allclose(r.apply_xyz(q), q)
-    assert fast_spec(s) is None and fast_spec(r) is not None  # exact disks: NumPy path
+    assert fast_spec(s).codes[-1] == 7 and fast_spec(r).codes[-1] == 6  # schottky_mask
 
 
 def fast_spec(m):
@@ -336,14 +337,31 @@ def test_mask_region_errors():
         s.with_mask_regions(MaskRegions(bar, [(1, 0, 0)]))
     mask = _mask()
     red = cap_from_mask(mask, (1, 0, 0))
-    regions = MaskRegions(mask, [(1, 0, 0)])
     near = Schottky([(red, generator_between(red, Cap(42, 0, 15)))])
     with pytest.raises(InvalidValueError, match="one mask colour per generator"):
         near.with_mask_regions(MaskRegions(mask, [(1, 0, 0), (0, 1, 0)]))
-    small = Schottky([(Cap(0, 0, 5), generator_between(Cap(0, 0, 5), Cap(170, 0, 15)))])
-    with pytest.raises(InvalidValueError, match="outside its round disk"):
-        small.with_mask_regions(regions)
     with pytest.raises(InvalidValueError, match="within the tolerance"):
         MaskRegions(mask, [(1, 0, 0), (0.9, 0, 0)])
     with pytest.raises(InvalidValueError, match="no pixel of the colour"):
         MaskRegions(mask, [(0, 0, 1)])
+
+
+def test_a_generator_from_the_inside_disk_keeps_the_exact_D_X_in_its_target():
+    """Built from the round disk inside the region, X takes the region's outside into the
+    target disk: every point of the exact D_X lies in the target (the README's interior
+    picture relies on it); built from the disk round the region, D_X spills far outside."""
+    from spherewarp.maps.schottky import MaskRegions, cap_from_mask
+
+    mask = _mask()
+    inner, outer = cap_from_mask(mask, (1, 0, 0), inside=True), cap_from_mask(mask, (1, 0, 0))
+    assert 7 < inner.radius < 9 < 20 < outer.radius < 22  # the rectangle: 40 x 16 degrees
+    xyz = _points(20000, seed=6)
+    assert all(_label(mask, v) == 0 for v in xyz[inner.contains(xyz)])  # the disk is red
+    target = Cap(170, 0, 15)
+    for cap, spills in ((inner, False), (outer, True)):
+        s = Schottky([(cap, generator_between(cap, target))])
+        s = s.with_mask_regions(MaskRegions(mask, [(1, 0, 0)]))
+        m = s.generators[0][1]
+        in_d_big = ~s.regions.contains(0, m.inverse().apply_xyz(xyz))
+        assert in_d_big.any()
+        assert bool((in_d_big & ~target.contains(xyz)).any()) is spills

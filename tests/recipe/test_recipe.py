@@ -55,7 +55,7 @@ def test_branched_steps_with_look_at():
 
 
 def test_lattes_and_droste_steps():
-    from spherewarp import droste as dr
+    from spherewarp.effects import droste as dr
     from spherewarp.maps import Lattes
 
     assert recipe({"lattes": {"alpha": "1+1j"}}).map_at() == Lattes("1+1j", "square")

@@ -228,7 +228,7 @@ def test_area_follows_the_map_inside_large_footprints():
     are pulled back through the map, not placed by a linear model of the footprint
     (which lost 8 dB here): within 1 dB of 4 x 4 against 12 x 12."""
     from spherewarp.demo import sample_path
-    from spherewarp.droste import droste_map, hole_from_radius
+    from spherewarp.effects.droste import droste_map, hole_from_radius
     from spherewarp.io import read_image
 
     img = np.ascontiguousarray(read_image(sample_path()).pixels[::4, ::4])  # 128 x 256

@@ -25,7 +25,7 @@ def test_push_and_sheets_accept_image_data():
         sw.push(data.pixels, zoom, output_shape=(32, 64)),
     )
     court = sw.read_image(sample_path("courtyard.png"))
-    from spherewarp.splitscreen import SheetedCover
+    from spherewarp.maps.sheeted import SheetedCover
 
     cover = SheetedCover(sw.Power(2), 2)
     np.testing.assert_array_equal(

@@ -2,7 +2,7 @@
 
 Each command builds the map that the renderer pulls the image back by
 (:mod:`spherewarp.maps.branched`, :mod:`spherewarp.maps.expression`,
-:mod:`spherewarp.splitscreen`): the forward maps are multi-valued (roots,
+:mod:`spherewarp.effects.splitscreen`): the forward maps are multi-valued (roots,
 logarithms), so these commands say "pull back by S" where the Möbius commands
 say "move the content by T". ``--look-at LON,LAT`` then turns the view of the
 result, e.g. ``--look-at 0,90`` shows the branch point on the ceiling at the
@@ -359,7 +359,7 @@ def splitscreen(
     differ in size (resampled to the largest) and channels. With --cover exp,
     --supersample defaults to 3.
     """
-    import spherewarp.splitscreen as ss
+    import spherewarp.effects.splitscreen as ss
 
     from ._common import load_input, output_path, save_output
     from ._files import job

@@ -1,7 +1,7 @@
 """``spherewarp droste``: straight and twisted Droste images from a picture frame.
 
 The command names the frame (its corners, a mask or a round radius), builds
-the Droste map with :mod:`spherewarp.droste` and renders it with the one
+the Droste map with :mod:`spherewarp.effects.droste` and renders it with the one
 pull-back renderer. ``--frames N`` renders a seamless zoom loop as numbered
 images; ``--view log`` writes the log-plane picture instead, with the period
 rectangle drawn.
@@ -240,7 +240,7 @@ def droste(
     again, scaled by 1/λ, and again; looking away you see a flower-shaped
     portal round the far point. --twist turns the copies into Escher's spiral.
     """
-    from .. import droste as dr
+    from ..effects import droste as dr
     from ._common import convert_for_output, load_input, output_name, output_path, save_output
     from ._files import job
 

@@ -200,7 +200,7 @@ def peirce(input: Path, render: RenderOptions, inverse: bool, lon0: float) -> No
     import math
 
     from ..errors import InvalidValueError
-    from ..projections import peirce_to_equirect, render_peirce
+    from ..grids.peirce import peirce_to_equirect, render_peirce
     from ._common import output_path
 
     render.refuse_view("peirce")
@@ -284,8 +284,8 @@ def torus(input: Path, render: RenderOptions, lattice: str, cells: str, mesh: Pa
     sets the width (the height follows from the cells); default: the input's
     width.
     """
+    from ..effects.torus import parse_cells, render_torus, render_torus_texture, write_torus_obj
     from ..errors import InvalidValueError, OutputExistsError
-    from ..torus import parse_cells, render_torus, render_torus_texture, write_torus_obj
     from ._common import load_input, output_path
     from ._files import job
 

@@ -152,8 +152,9 @@ DEGREES = RealType("degrees", "30", metavar="DEG")
     default="exact",
     show_default=True,
     help="With --mask: 'exact' takes each disk D_x as the pixels of its colour and D_X = "
-    "X(outside of D_x) (the paper's rule); 'round' takes the smallest round disk about "
-    "each colour (faster: compiled). Each generator X is built from the round disk.",
+    "X(outside of D_x) (the paper's rule), with X built from the largest round disk "
+    "inside the region, so that D_X lies in its --target disk; 'round' takes the smallest "
+    "round disk about each colour as D_x.",
 )
 @click.option(
     "--target",
@@ -251,7 +252,9 @@ def schottky(
         for colour, where in targets:
             try:
                 colours.append(parse_color(colour))
-                cap = cap_from_mask(pixels, colours[-1])
+                # exact regions: the disk inside the region, so that X takes the region's
+                # outside into the target disk; round: the disk round the region
+                cap = cap_from_mask(pixels, colours[-1], inside=regions.lower() == "exact")
                 if "," in where:
                     m = generator_between(cap, Cap(*_disk(where)))
                 else:
@@ -291,7 +294,7 @@ def schottky(
         click.echo(f"schottky: {len(gens)} generator(s), depth {s.depth}")
         save_output(warp(src_img.pixels, s, **kwargs), src_img, render, command="schottky")
         return
-    from ..droste import animation_phases
+    from ..effects.droste import animation_phases
 
     for p in {p.parent for p in paths}:
         p.mkdir(parents=True, exist_ok=True)

@@ -526,9 +526,9 @@ _ZENITH_FORWARD = view_frame((0.0, 90.0))
 
 @dataclass(frozen=True)
 class Peirce(Grid):
-    """Peirce's quincuncial projection (:mod:`spherewarp.projections`): the whole sphere
+    """Peirce's quincuncial projection (:mod:`spherewarp.grids.peirce`): the whole sphere
     conformally on a square, ``look_at`` at the centre (default the zenith: then it is
-    :func:`~spherewarp.projections.render_peirce` with ``lon0 = 0``, the front meridian
+    :func:`~spherewarp.grids.peirce.render_peirce` with ``lon0 = 0``, the front meridian
     running to the bottom-left corner). ``fov`` does not apply.
 
     Examples
@@ -548,14 +548,14 @@ class Peirce(Grid):
             raise InvalidValueError(f"expected a square Peirce picture, got {self.shape!r}")
 
     def _camera(self, x, y, dx, dy):
-        from ..projections import sphere_from_peirce
+        from .peirce import sphere_from_peirce
 
         n = self.shape[0]
         native = sphere_from_peirce(2 * (x + dx) / n - 1, 1 - 2 * (y + dy) / n)
         return native @ _ZENITH_FORWARD, np.ones(x.shape, bool)
 
     def _pixel(self, cam):
-        from ..projections import peirce_from_sphere
+        from .peirce import peirce_from_sphere
 
         n = self.shape[0]
         u, v = peirce_from_sphere(cam @ _ZENITH_FORWARD.T)
@@ -565,7 +565,7 @@ class Peirce(Grid):
 
 @dataclass(frozen=True)
 class Torus(Grid):
-    """The torus cell (:mod:`spherewarp.torus`): pixel ``(x, y)`` of a ``(h, w)`` picture is
+    """The torus cell (:mod:`spherewarp.effects.torus`): pixel ``(x, y)`` of a ``(h, w)`` picture is
     the point ``u = x/w + (1 - y/h) i`` of the square lattice's unit cell, shown at
     ``℘̃(u)`` (the cell covers the sphere twice; its corners show the nadir, its centre the
     zenith, with ``look_at`` at the default (0, 90)). The picture tiles the plane.

@@ -14,6 +14,7 @@ module                          maps
 :mod:`~.rational`               :class:`Rational`, :func:`fit_rational`
 :mod:`~.elliptic`               :class:`Lattes`
 :mod:`~.schottky`               :class:`Schottky`
+:mod:`~.sheeted`                :class:`SheetedCover` (split-screen's map)
 ==============================  =============================================
 
 Names are imported on first use, so that the command line starts fast.
@@ -40,13 +41,13 @@ _LAZY = {
     "FunctionMap": "expression",
     "Rational": "rational",
     "Schottky": "schottky",
+    "SheetedCover": "sheeted",
     "RationalFit": "rational",
     "fit_rational": "rational",
 }
 
 #: every module that registers map kinds, by full name (map_from_dict imports them all when
-#: it meets a kind it does not know yet, so that JSON reads back in a fresh interpreter);
-#: SheetedCover lives in spherewarp.splitscreen
+#: it meets a kind it does not know yet, so that JSON reads back in a fresh interpreter)
 MAP_MODULES = (
     "spherewarp.maps.mobius",
     "spherewarp.maps.branched",
@@ -55,7 +56,7 @@ MAP_MODULES = (
     "spherewarp.maps.expression",
     "spherewarp.maps.rational",
     "spherewarp.maps.schottky",
-    "spherewarp.splitscreen",
+    "spherewarp.maps.sheeted",
 )
 
 __all__ = [
@@ -80,6 +81,7 @@ __all__ = [
     "RationalFit",
     "fit_rational",
     "Schottky",
+    "SheetedCover",
 ]
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -89,6 +91,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .expression import ExpressionMap, FunctionMap
     from .rational import Rational, RationalFit, fit_rational
     from .schottky import Schottky
+    from .sheeted import SheetedCover
 
 
 def __getattr__(name: str) -> Any:

@@ -31,7 +31,7 @@ the map with the ``t``-th power of that similarity, so phase 1 is phase 0 and
 ``N`` phases ``k/N`` make a seamless loop, zooming *into* the frame.
 
 Building a hole from the corners of a real frame, a mask or a radius, and
-choosing ``lambda``, is in :mod:`spherewarp.droste`; this module holds the maps
+choosing ``lambda``, is in :mod:`spherewarp.effects.droste`; this module holds the maps
 (the hole enters as samples of ``rho``, see :func:`droste_chart`).
 
 Convention: points are unit-norm pairs in the default chart
@@ -174,7 +174,7 @@ class Droste(SphereMap):
     (:meth:`tile_index`) is 0 on the annulus itself (where the map is the
     identity), negative inside the frame and positive towards ``far``.
 
-    Usually built by :func:`spherewarp.droste.droste_map` from a frame.
+    Usually built by :func:`spherewarp.effects.droste.droste_map` from a frame.
 
     Parameters
     ----------

@@ -18,7 +18,7 @@ The disks are round, or (the paper's mask workflow) the exact regions of a
 mask, one colour per ``D_x`` (:class:`MaskRegions`,
 :meth:`Schottky.with_mask_regions`): then ``D_X = X(C - D_x)`` holds the
 points ``q`` with ``X^-1(q)`` outside ``D_x`` and the mask's black is the
-fundamental region (less the ``D_X``); that reduction runs on the NumPy path.
+fundamental region (less the ``D_X``); that reduction is the ``schottky_mask`` stage.
 
 Convention: points are unit-norm pairs in the default chart
 (:mod:`spherewarp.coords`); disks are ``(lon, lat, radius)`` in degrees.
@@ -225,14 +225,24 @@ def _color_hits(mask: NDArray, color: tuple[float, float, float], tolerance: flo
 
 
 def cap_from_mask(
-    mask: NDArray, color: tuple[float, float, float], *, tolerance: float = 0.25
+    mask: NDArray,
+    color: tuple[float, float, float],
+    *,
+    tolerance: float = 0.25,
+    inside: bool = False,
 ) -> Cap:
-    """The round disk round the pixels of one colour of an equirectangular mask.
+    """The round disk round (or inside) the pixels of one colour of an equirectangular mask.
 
     The centre is the area-weighted mean direction of the pixels within
-    ``tolerance`` (0..1 per channel) of ``color`` (0..1 sRGB), the radius the
-    largest angle from it to their pixel centres plus half a pixel diagonal:
-    the smallest cap about that centre holding the traced region.
+    ``tolerance`` (0..1 per channel) of ``color`` (0..1 sRGB). The radius is
+    the largest angle from it to their pixel centres plus half a pixel
+    diagonal (the smallest cap about that centre holding the traced region),
+    or with ``inside=True`` the smallest angle to a pixel centre of any other
+    colour less half a pixel diagonal (the largest cap about that centre
+    inside the region: every point of it lies in a pixel of the colour). A
+    generator built from the inside cap maps the outside of the exact region
+    into its target disk, so ``D_X = X(C - D_x)`` stays within the target
+    (:meth:`Schottky.with_mask_regions`).
 
     Raises
     ------
@@ -246,6 +256,8 @@ def cap_from_mask(
     >>> c = cap_from_mask(m, (1.0, 0.0, 0.0))
     >>> round(c.lon, 6) + 0.0, round(c.lat, 6) + 0.0, 13 < c.radius < 15
     (0.0, 0.0, True)
+    >>> 8 < cap_from_mask(m, (1.0, 0.0, 0.0), inside=True).radius < 10
+    True
     """
     hit = _color_hits(mask, color, tolerance)
     h, w = hit.shape
@@ -256,8 +268,21 @@ def cap_from_mask(
     if np.linalg.norm(c) < 1e-9:
         raise InvalidValueError("the mask region of one colour surrounds the sphere")
     c /= np.linalg.norm(c)
-    ang = float(np.degrees(np.arccos(np.clip(xyz @ c, -1, 1))).max())
-    ang += math.hypot(360 / w, 180 / h) / 2
+    half_diagonal = math.hypot(360 / w, 180 / h) / 2
+    if inside:
+        ys, xs = np.nonzero(~hit)
+        if ys.size == 0:
+            raise InvalidValueError("the mask region of one colour covers the whole sphere")
+        lonlat = coords.lonlat_from_pixel(np.stack([xs + 0.5, ys + 0.5], axis=-1), w, h)
+        cos_nearest = float((coords.xyz_from_lonlat(lonlat) @ c).max())
+        ang = math.degrees(math.acos(min(1.0, max(-1.0, cos_nearest)))) - half_diagonal
+        if ang <= 0:
+            raise InvalidValueError(
+                "the mask region of one colour is too thin: no round disk about its centre "
+                "fits inside it"
+            )
+    else:
+        ang = float(np.degrees(np.arccos(np.clip(xyz @ c, -1, 1))).max()) + half_diagonal
     lon, lat = np.degrees(coords.lonlat_from_xyz(c))
     return Cap(float(lon), float(lat), ang)
 
@@ -564,16 +589,20 @@ class Schottky(SphereMap):
         ``D_x`` of generator ``i`` becomes the mask's pixels of colour ``i``
         (:class:`MaskRegions`), ``D_X = X(C - D_x)`` the points ``q`` with
         ``X^-1(q)`` outside it, and the fundamental region is the mask's black
-        (and every other colour) less the ``D_X``. The generators stay as given
-        (built from round disks: each ``D_x`` must lie in its generator's round
-        disk). Rendered on the NumPy path.
+        (and every other colour) less the ``D_X``. The generators stay as given.
+        Built from the round disk inside each region (:func:`cap_from_mask` with
+        ``inside=True``, as ``spherewarp schottky --mask`` does), a generator takes
+        the outside of the region into its target disk, so each exact ``D_X`` lies
+        in its round one; built from the disk round the region, ``D_X`` also holds
+        the image of the disk's part outside the region, which can be large.
+        Compiled (the ``schottky_mask`` stage) like the round disks.
 
         Raises
         ------
         InvalidValueError
-            If the number of colours is not the number of generators, if a region
-            is not inside its round disk, or if two of the exact disks overlap (the
-            pair and the overlap in square degrees are named).
+            If the number of colours is not the number of generators, or if two of
+            the exact disks overlap (the pair and the overlap in square degrees are
+            named).
 
         Examples
         --------
@@ -656,24 +685,36 @@ class Schottky(SphereMap):
         return self._reduce(zw)[0]
 
     def kernel_stages(self) -> tuple[tuple[str, NDArray[np.float64]], ...] | None:
-        """``("schottky", ...)`` after the phase's Möbius stage (compiled renderer; None
-        with the exact disks of a mask).
+        """``("schottky", ...)`` after the phase's Möbius stage, or ``("schottky_mask",
+        ...)`` with the exact disks of a mask (compiled renderer).
 
         The moves in :meth:`_reduce`'s order: ``D_x`` with ``X``, then ``D_X`` with
-        ``X^-1``, for each generator; each its disk's normal and ``cos r`` and the
-        Lorentz matrix of its map.
+        ``X^-1``, for each generator; each the Lorentz matrix of its map and, with round
+        disks, its disk's normal and ``cos r`` (with a mask, its labels follow the
+        matrices).
         """
-        if self._regions is not None:
-            return None  # the exact disks of a mask: the NumPy path
-        from ..render.stages import SCHOTTKY, lorentz_from_sl2
+        from ..render.stages import SCHOTTKY, SCHOTTKY_MASK, lorentz_from_sl2
 
         moves = []
         for (cap, m), t in zip(self._gens, self._targets, strict=True):
             for disk, mat in ((cap, m.matrix), (t, m.inverse().matrix)):
-                lor = lorentz_from_sl2(mat / np.sqrt(np.linalg.det(mat)))
-                moves.append(np.concatenate([disk.normal, [disk.cos_r], lor.ravel()]))
-        row = SCHOTTKY.pack(count=len(self._gens), depth=self._depth, moves=np.array(moves))
-        core = (("schottky", row),)
+                lor = lorentz_from_sl2(mat / np.sqrt(np.linalg.det(mat))).ravel()
+                moves.append(
+                    lor if self._regions is not None else np.r_[disk.normal, disk.cos_r, lor]
+                )
+        if self._regions is None:
+            row = SCHOTTKY.pack(count=len(self._gens), depth=self._depth, moves=np.array(moves))
+            core: tuple[tuple[str, NDArray[np.float64]], ...] = (("schottky", row),)
+        else:
+            labels = self._regions.labels
+            row = SCHOTTKY_MASK.pack(
+                count=len(self._gens),
+                depth=self._depth,
+                width=labels.shape[1],
+                height=labels.shape[0],
+                data=np.concatenate([np.ravel(moves), labels.ravel().astype(np.float64)]),
+            )
+            core = (("schottky_mask", row),)
         return core if self._pre is None else self._pre.kernel_stages() + core
 
     def pull(self, zw: ComplexArray) -> PullBack:
@@ -753,8 +794,8 @@ class Schottky(SphereMap):
 
 
 def _check_regions(s: Schottky, regions: MaskRegions) -> None:
-    """Each region inside its generator's round disk, and the exact disks pairwise disjoint,
-    at the centres of the mask's pixels (at most about 2 million of them)."""
+    """The exact disks pairwise disjoint, at the centres of the mask's pixels (at most about
+    2 million of them)."""
     labels = regions.labels
     h, w = labels.shape
     step = max(1, int(math.ceil(math.sqrt(h * w / 2_000_000))))
@@ -765,15 +806,8 @@ def _check_regions(s: Schottky, regions: MaskRegions) -> None:
     area = np.cos(lonlat[:, 1]) * (360.0 * step / w) * (180.0 * step / h)  # square degrees
     own = regions.label(xyz)
     names, member = [], []
-    for i, (cap, m) in enumerate(s.generators):
+    for i, (_, m) in enumerate(s.generators):
         d_x = own == i
-        outside = d_x & ~cap.contains(xyz)
-        if outside.any():
-            raise InvalidValueError(
-                f"generator {i + 1}: the mask region of its colour reaches "
-                f"{float(area[outside].sum()):.3g} square degrees outside its round disk "
-                f"{_fmt(cap)}"
-            )
         d_big = ~regions.contains(i, coords.xyz_from_cp1(m.inverse().pull_cp1(zw)))
         names += [f"D_x of generator {i + 1} (its mask region)", f"D_X of generator {i + 1}"]
         member += [d_x, d_big]

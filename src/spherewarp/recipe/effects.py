@@ -236,7 +236,7 @@ def _check_droste(given: set[str], path: str) -> None:
 
 
 def _build_droste(v: dict[str, Any]) -> Any:
-    from .. import droste as dr
+    from ..effects import droste as dr
 
     if v["frame"] is not None:
         hole = dr.hole_from_corners(list(v["frame"]), v["center"], far=v["far"])

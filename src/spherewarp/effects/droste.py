@@ -24,7 +24,7 @@ Convention: points are ``(lon, lat)`` in degrees (see
 Examples
 --------
 >>> import numpy as np
->>> from spherewarp.droste import hole_from_corners, droste_map
+>>> from spherewarp.effects.droste import hole_from_corners, droste_map
 >>> hole = hole_from_corners([(-10, 10), (10, 10), (10, -10), (-10, -10)])
 >>> hole.center
 (0.0, 0.0)
@@ -45,10 +45,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import coords
-from .errors import InvalidTypeError, InvalidValueError
-from .maps.droste import Droste, TwistedDroste, droste_chart
-from .maps.mobius import Mobius
+from .. import coords
+from ..errors import InvalidTypeError, InvalidValueError
+from ..maps.droste import Droste, TwistedDroste, droste_chart
+from ..maps.mobius import Mobius
 
 __all__ = [
     "Hole",
@@ -540,7 +540,7 @@ def hole_from_mask(
     >>> bool(abs(hole.mean_radius - 20) < 0.5)
     True
     """
-    from .render.sampling import sample
+    from ..render.sampling import sample
 
     samples = _check_samples(samples)
     values = _mask_values(mask)
@@ -797,7 +797,7 @@ def droste_image(images: Any, droste: Droste, **warp_kwargs: Any) -> NDArray:
     ``images`` is one image or a list (one per ``n_images``; image 0 is the
     room outside the frame).
     """
-    from .render import warp
+    from ..render import warp
 
     if not isinstance(droste, Droste):
         raise InvalidTypeError(f"expected a Droste map, got {type(droste).__name__}")
@@ -997,8 +997,8 @@ def log_view(
     >>> out.shape, out[0, :, 0].max()     # the rectangle's top edge, drawn in red
     ((64, 64, 3), np.uint8(255))
     """
-    from .render.sampling import check_interp, sample
-    from .render.warp import as_image
+    from ..render.sampling import check_interp, sample
+    from ..render.warp import as_image
 
     if not isinstance(droste, Droste):
         raise InvalidTypeError(f"expected a Droste map, got {type(droste).__name__}")

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from spherewarp import coords
-from spherewarp.droste import (
+from spherewarp.effects.droste import (
     Hole,
     animation_phases,
     auto_scale,

@@ -32,12 +32,12 @@ including its diagonals.
 Examples
 --------
 >>> import numpy as np
->>> from spherewarp import projections
->>> u, v = projections.peirce_from_sphere(np.array([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]]))
+>>> from spherewarp.grids import peirce
+>>> u, v = peirce.peirce_from_sphere(np.array([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]]))
 >>> np.round(u, 12) + 0, np.round(np.abs(v), 12)
 (array([0., 1.]), array([0., 1.]))
->>> xyz = projections.sphere_from_peirce(np.array([0.3]), np.array([-0.8]))
->>> u, v = projections.peirce_from_sphere(xyz)
+>>> xyz = peirce.sphere_from_peirce(np.array([0.3]), np.array([-0.8]))
+>>> u, v = peirce.peirce_from_sphere(xyz)
 >>> print(round(float(u[0]), 12), round(float(v[0]), 12))
 0.3 -0.8
 """
@@ -51,8 +51,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import coords, special
-from .errors import InvalidValueError
+from .. import coords, special
+from ..errors import InvalidValueError
 
 __all__ = [
     "peirce_from_sphere",
@@ -189,7 +189,7 @@ def sphere_from_peirce(u: ArrayLike, v: ArrayLike, lon0: float = 0.0) -> FloatAr
 
 # -- rendering ---------------------------------------------------------------------------
 def _check_image(image: ArrayLike, name: str = "image") -> NDArray:
-    from .render.warp import as_image
+    from ..render.warp import as_image
 
     return as_image(image, name)
 
@@ -251,8 +251,8 @@ def render_peirce(
     >>> render_peirce(img, 40).shape
     (40, 40, 3)
     """
-    from .render.sampling import check_interp, sample
-    from .render.warp import check_equirect
+    from ..render.sampling import check_interp, sample
+    from ..render.warp import check_equirect
 
     img = _check_image(image)
     check_equirect(img, force)
@@ -353,7 +353,7 @@ def peirce_to_equirect(
     >>> peirce_to_equirect(sq).shape
     (32, 64, 3)
     """
-    from .render.sampling import check_interp, sample
+    from ..render.sampling import check_interp, sample
 
     sq = _check_image(square_image, "square image")
     n = sq.shape[0]

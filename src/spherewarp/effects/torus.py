@@ -29,7 +29,7 @@ inside the sphere, like the panorama itself (not mirrored).
 Examples
 --------
 >>> import numpy as np
->>> from spherewarp import torus
+>>> from spherewarp.effects import torus
 >>> img = np.zeros((32, 64, 3), np.uint8)
 >>> torus.render_torus(img, "square", cells=(2, 1), width=64).shape
 (32, 64, 3)
@@ -48,8 +48,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import coords, special
-from .errors import InvalidValueError, OutputExistsError
+from .. import coords, special
+from ..errors import InvalidValueError, OutputExistsError
 
 __all__ = [
     "parse_cells",
@@ -101,7 +101,7 @@ def _pull(
     supersample: int,
     progress: Any = None,
 ) -> NDArray:
-    from .render.sampling import check_interp, sample
+    from ..render.sampling import check_interp, sample
 
     interp = check_interp(interp)
     h_in, w_in = img.shape[:2]
@@ -137,7 +137,7 @@ def _pull(
 def _check_common(
     image: ArrayLike, lattice: str, cells: object, supersample: object, force: bool
 ) -> tuple[NDArray, str, tuple[int, int], int]:
-    from .render.warp import as_image, check_equirect
+    from ..render.warp import as_image, check_equirect
 
     img = as_image(image)
     check_equirect(img, force)
@@ -348,8 +348,8 @@ def write_torus_obj(
     >>> [p.name for p in write_torus_obj(d / "t.obj", tex)]
     ['t.obj', 't.mtl', 't_texture.png']
     """
-    from .io import write_image
-    from .io.atomic import write_text
+    from ..io import write_image
+    from ..io.atomic import write_text
 
     obj = Path(obj_path)
     if obj.suffix.lower() != ".obj":

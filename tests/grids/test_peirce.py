@@ -7,7 +7,7 @@ import pytest
 
 from spherewarp import coords
 from spherewarp.errors import InvalidValueError
-from spherewarp.projections import (
+from spherewarp.grids.peirce import (
     peirce_from_sphere,
     peirce_to_equirect,
     render_peirce,

@@ -1,4 +1,4 @@
-"""Split-screen on branched covers (spherewarp.splitscreen)."""
+"""Split-screen on branched covers (spherewarp.effects.splitscreen)."""
 
 from __future__ import annotations
 
@@ -7,10 +7,7 @@ import pytest
 
 import tolerances
 from spherewarp import coords
-from spherewarp.errors import InvalidTypeError, InvalidValueError
-from spherewarp.maps import ExpMap, Mobius, Power, map_from_dict
-from spherewarp.render import warp
-from spherewarp.splitscreen import (
+from spherewarp.effects.splitscreen import (
     SheetedCover,
     auto_seam,
     conform_images,
@@ -18,6 +15,9 @@ from spherewarp.splitscreen import (
     seam_costs,
     splitscreen,
 )
+from spherewarp.errors import InvalidTypeError, InvalidValueError
+from spherewarp.maps import ExpMap, Mobius, Power, map_from_dict
+from spherewarp.render import warp
 
 H, W = 64, 128
 

@@ -8,14 +8,14 @@ import numpy as np
 import pytest
 
 from spherewarp import coords
-from spherewarp.errors import InvalidValueError, OutputExistsError
-from spherewarp.torus import (
+from spherewarp.effects.torus import (
     parse_cells,
     render_torus,
     render_torus_texture,
     torus_mesh,
     write_torus_obj,
 )
+from spherewarp.errors import InvalidValueError, OutputExistsError
 
 
 def test_square_cell_holds_two_copies_and_its_branch_points(smooth_image):
