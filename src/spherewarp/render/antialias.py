@@ -368,10 +368,10 @@ def one_tap_pixels(
 
     Examples
     --------
-    At the input's equator seen at its own size: a pixel magnified 4 times takes
+    At the input's equator seen at its own size: a pixel magnified 20 times takes
     one tap, one shrunk 2 times does not.
 
-    >>> one_tap_pixels(np.array([[0.25, 2.0]]), np.array([[7.5, 7.5]]), None, np.array([0.0]),
+    >>> one_tap_pixels(np.array([[0.05, 2.0]]), np.array([[7.5, 7.5]]), None, np.array([0.0]),
     ...                (16, 32), (16, 32)).tolist()
     [[True, False]]
     """

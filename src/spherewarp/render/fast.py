@@ -150,7 +150,7 @@ def jump_codes() -> list[int]:
     >>> sorted(jump_codes()) == sorted(_st.BY_NAME[k].code for k in JUMP_KINDS)
     True
     >>> sorted(JUMP_KINDS)
-    ['droste', 'exp', 'schottky']
+    ['droste', 'exp', 'schottky', 'schottky_mask']
     """
     return [s.code for s in _st.STAGES if s.has_jumps]
 
