@@ -195,3 +195,28 @@ def test_views_url_and_undo(page):
         assert np.isfinite(img).all() and img.std() > 10, view
         assert page.evaluate("new URLSearchParams(location.search).get('view')") == view
     page.evaluate("window.spherewarp.S.view = 'flat'")
+
+
+def test_schottky_stage(page, served):
+    """No recipe effect makes a Schottky group yet: its packed stages go to the page
+    directly, as the server packs a recipe's."""
+    from spherewarp.maps import Schottky
+    from spherewarp.render import warp
+    from spherewarp.viewer.server import packed_stages
+
+    class _One:  # packed_stages takes anything with map_at
+        def __init__(self, m):
+            self.m = m
+
+        def map_at(self, t):
+            return self.m
+
+    m = Schottky.from_disk_pairs([((0, 0, 20), (180, 0, 20)), ((90, 30, 25), (-90, -30, 25))])
+    st = packed_stages(_One(m))
+    assert 6 in st["codes"]
+    page.evaluate("st => window.spherewarp.setStages(st)", st)
+    out = warp(read_image(served.image_path), m, output_shape=(H, W))
+    want = np.asarray(getattr(out, "pixels", out))[..., :3].astype(np.float64)
+    value = psnr(shown(page), want)
+    print(f"schottky: PSNR {value:.2f} dB")
+    assert value >= 35

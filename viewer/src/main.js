@@ -74,10 +74,20 @@ function uploadImage(img) {
   gl.uniform1i(uni.uImage, 0);
 }
 
+// the stages this shader runs (shader.js); a stage added to the table later is named, not
+// run wrongly
+const SHADER_STAGES = ["mobius", "power", "exp", "rational", "droste", "schottky"];
+
 function uploadStages(st) {
   S.stages = st;
   if (st.codes === null) {
     status(`no live preview: ${st.missing}`, true);
+    return;
+  }
+  const unknown = st.codes.map((c) => S.stageNames[c]).filter((n) => !SHADER_STAGES.includes(n));
+  if (unknown.length) {
+    status(`no live preview: the shader has no '${unknown[0]}' stage yet (render full resolution)`, true);
+    S.stages = { codes: null };
     return;
   }
   if (st.codes.length > MAX_STAGES) {
@@ -461,6 +471,7 @@ function wireButtons() {
 async function start() {
   const state = await (await fetch("api/state")).json();
   S.imageName = state.image.name;
+  S.stageNames = Object.fromEntries(state.table.stages.map((t) => [t.code, t.name]));
   S.recipe = state.recipe;
   const ar = state.image.width / state.image.height;
   S.size = [Math.min(state.image.width, 2048), Math.round(Math.min(state.image.width, 2048) / ar)];
@@ -483,6 +494,11 @@ window.spherewarp = {
   draw,
   pixelToLonLat,
   setRecipe: (r) => commit(r),
+  // packed stages straight from Python (maps that no recipe effect makes yet)
+  setStages: (st) => {
+    uploadStages(st);
+    draw();
+  },
   settle: () =>
     new Promise((res) => {
       if (!inflight && !pending) return res();
