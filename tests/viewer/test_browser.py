@@ -194,7 +194,19 @@ def test_views_url_and_undo(page):
         img = shown(page)
         assert np.isfinite(img).all() and img.std() > 10, view
         assert page.evaluate("new URLSearchParams(location.search).get('view')") == view
-    page.evaluate("window.spherewarp.S.view = 'flat'")
+    # Ctrl + wheel: a conformal zoom at the cursor (a zoom step, not a field of view)
+    box = page.locator("#view").bounding_box()
+    page.mouse.move(box["x"] + 64, box["y"] + 32)
+    page.keyboard.down("Control")
+    page.mouse.wheel(0, -100)
+    page.keyboard.up("Control")
+    page.evaluate("window.spherewarp.settle()")
+    last = page.evaluate("window.spherewarp.S.recipe.steps.at(-1)")
+    assert last["zoom"]["at"] == [-90, 45] and last["zoom"]["factor"] > 1
+    page.click("#copy")
+    assert "spherewarp render recipe.json courtyard.png -o out.png --size 256x128" in (
+        page.input_value("#cli")
+    )
 
 
 def test_schottky_stage(page, served):

@@ -26,7 +26,17 @@ out vec4 color;
 
 const float PI = 3.14159265358979;
 
-float P(int s, int i) { return texelFetch(uParams, ivec2(i, s), 0).r; }
+uniform vec4 uPV[PV_SIZE];   // the rows again, packed 4 floats a vec4, when they fit
+uniform int uBase[MAX_STAGES];  // where row s starts in uPV (in floats)
+uniform bool uUniformRows;   // read uPV (a uniform read is much cheaper than texelFetch)
+
+float P(int s, int i) {
+  if (uUniformRows) {
+    int k = uBase[s] + i;
+    return uPV[k >> 2][k & 3];
+  }
+  return texelFetch(uParams, ivec2(i, s), 0).r;
+}
 
 // (sign, Re q, Im q) of the null vector (t, x, y, z), as _kernels._affine
 vec3 affine(vec4 v) {
