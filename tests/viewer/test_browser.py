@@ -111,6 +111,9 @@ RECIPES = {
     "lattes-hex": [{"lattes": {"alpha": "2", "lattice": "hex"}}],
     "droste": [{"droste": {"center": [0, 0], "inner_radius": 20}}],
     "droste-twisted": [{"droste": {"center": [0, 0], "inner_radius": 20, "twist": True}}],
+    # the seam (lon 180) through the middle, and a map that shrinks at the pole
+    "seam": [{"rotate": {"yaw": 180}}],
+    "pole": [{"zoom": {"at": [0, 88], "factor": 0.25}}],
     "composed": [{"zoom": {"at": [-40, 20], "factor": 2}}, {"power": {"n": 2}}],
 }
 
@@ -203,6 +206,14 @@ def test_views_url_and_undo(page):
     page.evaluate("window.spherewarp.settle()")
     last = page.evaluate("window.spherewarp.S.recipe.steps.at(-1)")
     assert last["zoom"]["at"] == [-90, 45] and last["zoom"]["factor"] > 1
+    # the test pattern overlay, pulled back by the same map
+    before = shown(page)
+    page.locator("#overlay").fill("1")
+    page.wait_for_function("window.spherewarp.S.overlay === 1")
+    page.evaluate("window.spherewarp.draw()")
+    assert np.abs(shown(page) - before).mean() > 5
+    page.locator("#overlay").fill("0")
+    page.wait_for_function("window.spherewarp.S.overlay === 0")
     page.click("#copy")
     assert "spherewarp render recipe.json courtyard.png -o out.png --size 256x128" in (
         page.input_value("#cli")

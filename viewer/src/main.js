@@ -26,6 +26,8 @@ const S = {
   stages: null,
   image: null,
   frames: 0,
+  rows: "auto", // "texture": always read the rows with texelFetch (for the benchmark)
+  overlay: 0, // how much of the test pattern is mixed in
   ss: 2, // sub-samples per pixel along each axis (?ss=1..4)
 };
 
@@ -50,7 +52,7 @@ function compile(header) {
   gl.linkProgram(prog);
   if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(prog));
   gl.useProgram(prog);
-  for (const n of ["uImage", "uParams", "uCodes", "uCount", "uView", "uSize", "uLook", "uPlanet", "uSS", "uPV", "uBase", "uUniformRows"])
+  for (const n of ["uImage", "uParams", "uCodes", "uCount", "uView", "uSize", "uLook", "uPlanet", "uSS", "uPV", "uBase", "uUniformRows", "uPattern", "uOverlay"])
     uni[n] = gl.getUniformLocation(prog, n);
   const buf = gl.createBuffer();
   gl.bindBuffer(gl.ARRAY_BUFFER, buf);
@@ -60,9 +62,9 @@ function compile(header) {
   gl.vertexAttribPointer(loc, 2, gl.FLOAT, false, 0, 0);
 }
 
-function uploadImage(img) {
+function uploadImage(img, unit = 0) {
   const tex = gl.createTexture();
-  gl.activeTexture(gl.TEXTURE0);
+  gl.activeTexture(gl.TEXTURE0 + unit);
   gl.bindTexture(gl.TEXTURE_2D, tex);
   gl.pixelStorei(gl.UNPACK_COLORSPACE_CONVERSION_WEBGL, gl.NONE);
   gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
@@ -72,7 +74,7 @@ function uploadImage(img) {
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.REPEAT);
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
-  gl.uniform1i(uni.uImage, 0);
+  gl.uniform1i(unit === 0 ? uni.uImage : uni.uPattern, unit);
 }
 
 // the stages this shader runs (shader.js); a stage added to the table later is named, not
@@ -111,7 +113,7 @@ function uploadStages(st) {
   codes.set(st.codes);
   gl.uniform1iv(uni.uCodes, codes);
   // the rows as uniforms too (as padded: a row's fields may end in zeros), when they fit
-  const fits = data.length <= 4 * PV_SIZE;
+  const fits = data.length <= 4 * PV_SIZE && S.rows !== "texture";
   gl.uniform1i(uni.uUniformRows, fits ? 1 : 0);
   if (fits) {
     const pv = new Float32Array(4 * PV_SIZE);
@@ -136,6 +138,7 @@ function draw() {
   gl.uniform3f(uni.uLook, S.look[0] * DEG, S.look[1] * DEG, S.look[2] * DEG);
   gl.uniform1f(uni.uPlanet, S.planet);
   gl.uniform1i(uni.uSS, S.ss);
+  gl.uniform1f(uni.uOverlay, S.overlay);
   gl.drawArrays(gl.TRIANGLES, 0, 3);
   S.frames += 1;
 }
@@ -224,21 +227,16 @@ function commit(recipe) {
   buildSliders();
 }
 
-function undo() {
-  if (!S.undo.length) return;
-  S.redo.push(JSON.stringify(S.recipe));
-  S.recipe = JSON.parse(S.undo.pop());
+// undo: from S.undo to S.redo; redo: the other way
+function shift(from, to) {
+  if (!from.length) return;
+  to.push(JSON.stringify(S.recipe));
+  S.recipe = JSON.parse(from.pop());
   refresh();
   buildSliders();
 }
-
-function redo() {
-  if (!S.redo.length) return;
-  S.undo.push(JSON.stringify(S.recipe));
-  S.recipe = JSON.parse(S.redo.pop());
-  refresh();
-  buildSliders();
-}
+const undo = () => shift(S.undo, S.redo);
+const redo = () => shift(S.redo, S.undo);
 
 function writeURL() {
   const q = new URLSearchParams();
@@ -473,6 +471,17 @@ function wireButtons() {
       writeURL();
       draw();
     };
+  $("overlay").oninput = async () => {
+    if (!S.patternLoaded) {
+      S.patternLoaded = true;
+      const pat = new Image();
+      pat.src = "testpattern";
+      await pat.decode();
+      uploadImage(pat, 2);
+    }
+    S.overlay = +$("overlay").value;
+    draw();
+  };
   $("size").onchange = () => {
     const m = /^(\d+)x(\d+)$/.exec($("size").value);
     if (m) (S.size = [+m[1], +m[2]]), writeURL(), draw();
@@ -494,6 +503,7 @@ async function start() {
   img.src = "image";
   await img.decode();
   uploadImage(img);
+  uploadImage(img, 2); // the overlay's texture until the test pattern is asked for
   wireButtons();
   showPins();
   buildSliders();

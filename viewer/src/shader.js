@@ -14,6 +14,8 @@ void main() { gl_Position = vec4(pos, 0.0, 1.0); }
 
 export const BODY = `
 uniform sampler2D uImage;   // the panorama, mipmapped, RGBA8
+uniform sampler2D uPattern; // the paper's test pattern, for the overlay
+uniform float uOverlay;     // how much of the test pattern is mixed in (0: none)
 uniform highp sampler2D uParams;  // R32F: row s = stage s's parameter row
 uniform int uCodes[MAX_STAGES];
 uniform int uCount;          // number of stages; -1: the map has none (show a pattern)
@@ -218,7 +220,9 @@ vec4 sampleAt(vec2 p, float n) {
   float lat = atan(s.z, length(s.xy));
   vec2 uv = vec2((lon + PI) / (2.0 * PI), (0.5 * PI - lat) / PI);
   vec3 dx = dFdx(s) / n, dy = dFdy(s) / n;  // the footprint of one sub-sample
-  vec4 c = textureGrad(uImage, uv, lonlatGrad(s, dx), lonlatGrad(s, dy));
+  vec2 gx = lonlatGrad(s, dx), gy = lonlatGrad(s, dy);
+  vec4 c = textureGrad(uImage, uv, gx, gy);
+  if (uOverlay > 0.0) c = mix(c, textureGrad(uPattern, uv, gx, gy), uOverlay);
   return v.x < 0.0 ? vec4(0.0, 0.0, 0.0, 1.0) : vec4(c.rgb, 1.0);
 }
 

@@ -6,6 +6,9 @@ Routes
     The bundled page (``static/``); nothing outside that folder.
 ``GET /image``
     The image the server was started with, as an 8-bit PNG (any input format).
+``GET /testpattern``
+    The paper's test pattern (:func:`spherewarp.testpattern.make_test_pattern`,
+    1024x512), for the page's overlay.
 ``GET /api/state``
     ``{"recipe", "image": {"width", "height", "name"}, "stages", "glsl_header",
     "table"}``: the recipe the server was started with, its map packed as
@@ -144,6 +147,7 @@ class ViewerServer:
         self.image_png = _png_bytes(self.image.pixels)
         self.recipe = Recipe.load(recipe) if recipe is not None else Recipe.from_dict(_EMPTY)
         self.jobs: dict[str, _Job] = {}
+        self._pattern: bytes | None = None
         self.tmp = Path(tempfile.mkdtemp(prefix="spherewarp-view-"))
         self.httpd = ThreadingHTTPServer((host, port), _Handler)
         self.httpd.daemon_threads = True
@@ -168,6 +172,14 @@ class ViewerServer:
     def wait(self) -> None:
         """Block until interrupted."""
         self._thread.join()
+
+    def pattern_png(self) -> bytes:
+        """The test pattern as PNG (made on first use)."""
+        if self._pattern is None:
+            from ..testpattern import make_test_pattern
+
+            self._pattern = _png_bytes(make_test_pattern(1024, 512))
+        return self._pattern
 
     # -- the API --------------------------------------------------------------------------
     def state(self) -> dict[str, Any]:
@@ -330,6 +342,8 @@ class _Handler(BaseHTTPRequestHandler):
             return self._json(v.state())
         if path == "/image":
             return self._send(200, v.image_png, "image/png")
+        if path == "/testpattern":
+            return self._send(200, v.pattern_png(), "image/png")
         if path.startswith("/api/render/"):
             parts = path[len("/api/render/") :].split("/")
             job = v.jobs.get(parts[0])
