@@ -33,7 +33,9 @@ RECIPES = {
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="only 4096x2048 ss=1 and 1024x512")
+    ap.add_argument(
+        "--quick", action="store_true", help="4096x2048 (ss=1) for the first recipe only"
+    )
     ap.add_argument("--repeat", type=int, default=2)
     args = ap.parse_args()
 
@@ -77,6 +79,8 @@ def main() -> None:
                 recipe,
             )
             for (w, h), ss in cases:
+                if args.quick and w > 1024 and name != next(iter(RECIPES)):
+                    continue
                 page.evaluate(
                     "([w, h, ss]) => { const S = window.spherewarp.S; S.size = [w, h];"
                     " S.ss = ss; }",
@@ -105,7 +109,10 @@ def main() -> None:
         b.close()
     srv.close()
     out = Path(__file__).with_name("results") / f"viewer-{time.strftime('%Y%m%d-%H%M')}.json"
-    out.write_text(json.dumps({"renderer": renderer, "args": launch_args, "rows": rows}, indent=1))
+    load = os.getloadavg()[0]
+    print(f"load average {load:.1f} on {os.cpu_count()} CPUs")
+    data = {"renderer": renderer, "args": launch_args, "load": load, "rows": rows}
+    out.write_text(json.dumps(data, indent=1))
     print(f"wrote {out}")
 
 

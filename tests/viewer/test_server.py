@@ -199,3 +199,20 @@ def test_cli_view_prints_url_and_warns(tmp_path):
         p.terminate()
         _, err = p.communicate(timeout=10)
     assert "warning: listening on 0.0.0.0, not loopback" in err
+
+
+def test_cli_view_bad_recipe_is_one_line(tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"spherewarp": 1, "steps": [{"zooom": {}}]}')
+    before = _snapshot(tmp_path)
+    p = subprocess.run(
+        [sys.executable, "-m", "spherewarp", "view", "--no-browser", "--recipe", str(bad)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert p.returncode == 2 and p.stdout == ""
+    assert p.stderr.strip().splitlines() == [
+        "spherewarp: error: steps[0]: unknown effect 'zooom' (did you mean 'zoom'?)"
+    ]
+    assert _snapshot(tmp_path) == before

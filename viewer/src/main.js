@@ -2,7 +2,6 @@
 import { BODY, VERTEX } from "./shader.js";
 
 const MAX_STAGES = 32;
-const PV_SIZE = 256; // vec4 uniforms for the rows (1024 floats)
 const DEG = Math.PI / 180;
 const $ = (id) => document.getElementById(id);
 const canvas = $("view");
@@ -26,7 +25,6 @@ const S = {
   stages: null,
   image: null,
   frames: 0,
-  rows: "auto", // "texture": always read the rows with texelFetch (for the benchmark)
   overlay: 0, // how much of the test pattern is mixed in
   ss: 2, // sub-samples per pixel along each axis (?ss=1..4)
 };
@@ -38,7 +36,7 @@ let uni = {};
 let paramsTex = null;
 
 function compile(header) {
-  const src = `#version 300 es\nprecision highp float;\nprecision highp int;\n#define MAX_STAGES ${MAX_STAGES}\n#define PV_SIZE ${PV_SIZE}\n${header}\n${BODY}`;
+  const src = `#version 300 es\nprecision highp float;\nprecision highp int;\n#define MAX_STAGES ${MAX_STAGES}\n${header}\n${BODY}`;
   const mk = (type, text) => {
     const sh = gl.createShader(type);
     gl.shaderSource(sh, text);
@@ -52,7 +50,7 @@ function compile(header) {
   gl.linkProgram(prog);
   if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(prog));
   gl.useProgram(prog);
-  for (const n of ["uImage", "uParams", "uCodes", "uCount", "uView", "uSize", "uLook", "uPlanet", "uSS", "uPV", "uBase", "uUniformRows", "uPattern", "uOverlay"])
+  for (const n of ["uImage", "uParams", "uCodes", "uCount", "uView", "uSize", "uLook", "uPlanet", "uSS", "uPattern", "uOverlay"])
     uni[n] = gl.getUniformLocation(prog, n);
   const buf = gl.createBuffer();
   gl.bindBuffer(gl.ARRAY_BUFFER, buf);
@@ -112,17 +110,6 @@ function uploadStages(st) {
   const codes = new Int32Array(MAX_STAGES);
   codes.set(st.codes);
   gl.uniform1iv(uni.uCodes, codes);
-  // the rows as uniforms too (as padded: a row's fields may end in zeros), when they fit
-  const fits = data.length <= 4 * PV_SIZE && S.rows !== "texture";
-  gl.uniform1i(uni.uUniformRows, fits ? 1 : 0);
-  if (fits) {
-    const pv = new Float32Array(4 * PV_SIZE);
-    pv.set(data);
-    const base = new Int32Array(MAX_STAGES);
-    st.rows.forEach((_, s) => (base[s] = s * w));
-    gl.uniform4fv(uni.uPV, pv);
-    gl.uniform1iv(uni.uBase, base);
-  }
 }
 
 function draw() {

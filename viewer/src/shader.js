@@ -28,15 +28,7 @@ out vec4 color;
 
 const float PI = 3.14159265358979;
 
-uniform vec4 uPV[PV_SIZE];   // the rows again, packed 4 floats a vec4, when they fit
-uniform int uBase[MAX_STAGES];  // where row s starts in uPV (in floats)
-uniform bool uUniformRows;   // read uPV (a uniform read is much cheaper than texelFetch)
-
 float P(int s, int i) {
-  if (uUniformRows) {
-    int k = uBase[s] + i;
-    return uPV[k >> 2][k & 3];
-  }
   return texelFetch(uParams, ivec2(i, s), 0).r;
 }
 
