@@ -76,7 +76,7 @@ def packed_stages(recipe: Any, t: float = 0.0) -> dict[str, Any]:
     >>> from spherewarp.recipe import Recipe
     >>> r = Recipe.from_dict({"spherewarp": 1, "steps": [{"power": {"n": 3}}]})
     >>> packed_stages(r)["codes"]
-    [1, 2, 1]
+    [2]
     """
     from ..render.fast import kernel_spec
 
