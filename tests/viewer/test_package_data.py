@@ -86,3 +86,24 @@ def test_installed_package_finds_the_page(tmp_path):
         cwd=tmp_path,
     )
     assert out.stdout.strip().startswith(str(target))
+
+
+def test_committed_build_is_up_to_date(tmp_path):
+    """static/ is what 'npm run build' makes of viewer/ now (skipped without its toolchain)."""
+    src = ROOT / "viewer"
+    vite = src / "node_modules" / ".bin" / "vite"
+    if not vite.exists():
+        pytest.skip("viewer/node_modules is not installed (cd viewer && npm ci)")
+    out = tmp_path / "static"
+    subprocess.run(
+        [str(vite), "build", "--outDir", str(out), "--emptyOutDir", "--logLevel", "error"],
+        cwd=src, check=True, capture_output=True, timeout=120,
+    )  # fmt: skip
+    from spherewarp.viewer.server import STATIC_DIR
+
+    def files(root: Path) -> dict[str, bytes]:
+        return {
+            p.relative_to(root).as_posix(): p.read_bytes() for p in root.rglob("*") if p.is_file()
+        }
+
+    assert files(out) == files(STATIC_DIR), "run 'npm run build' in viewer/ and commit static/"
