@@ -18,12 +18,37 @@ import click
 
 from ._common import RealType, RenderOptions, example, input_argument, render_options
 
-__all__ = ["render", "animate", "recipe_options", "saving_recipe", "recipe_of"]
+__all__ = [
+    "render",
+    "animate",
+    "recipe_options",
+    "saving_recipe",
+    "recipe_of",
+    "capturing_recipe",
+]
 
 TIME = RealType("a time in seconds", "1.5", metavar="T")
 
 #: recipe files this process wrote (path -> data): a batch writes one recipe, naming its inputs
 _WRITTEN: dict[str, dict[str, Any]] = {}
+#: while :func:`capturing_recipe` runs: the recipes the effect commands would save
+_CAPTURED: list[dict[str, Any]] | None = None
+
+
+@contextlib.contextmanager
+def capturing_recipe() -> Iterator[list[dict[str, Any]]]:
+    """Collect the recipe an effect command builds instead of rendering or saving it.
+
+    Inside the block, :func:`saving_recipe` appends the recipe data of its step to the
+    list yielded and tells the command to render nothing (as ``--dry-run``); so
+    ``spherewarp video ... droste`` builds the very step ``spherewarp droste`` would.
+    """
+    global _CAPTURED
+    saved, _CAPTURED = _CAPTURED, []
+    try:
+        yield _CAPTURED
+    finally:
+        _CAPTURED = saved
 
 
 def recipe_options(func: Callable) -> Callable:
@@ -96,6 +121,10 @@ def saving_recipe(
     existing file is refused before any work without ``--overwrite``; a batch
     writes it once.
     """
+    if _CAPTURED is not None:  # capturing_recipe: hand the step over, render nothing
+        _CAPTURED.append(recipe_of(step, render, input, top))
+        yield True
+        return
     if path is None:
         if dry_run:
             raise click.UsageError("--dry-run goes with --save-recipe R.json")
