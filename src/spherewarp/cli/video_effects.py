@@ -24,8 +24,9 @@ from typing import Any
 
 import click
 
-from ._common import RealType
-from .video_cmds import _grid, _outputs, _Pose, _run, run_recipe, video
+from ._common import SIZE, RealType
+from .video_cmds import _grid, _Pose, _run, run_recipe, video
+from .video_cmds import _outputs as _video_outputs
 
 __all__ = ["GENERATED"]
 
@@ -37,6 +38,18 @@ GENERATED = {
     "lattes": "elliptic_cmds:lattes",
     "map": "branched_cmds:map_cmd",
 }
+
+
+def _outputs(func: Any) -> Any:
+    """-o, --overwrite and --size after the effect too (``video IN droste ... --size WxH``)."""
+    func = click.option("--size", "size_", type=SIZE, hidden=True)(func)
+    return _video_outputs(func)
+
+
+def _size_after(ctx: click.Context, size: tuple[int, int] | None) -> None:
+    """A --size given after the effect: the output's, as before it."""
+    if size is not None:
+        ctx.obj["size"] = size
 
 
 def _still(target: str) -> click.Command:
@@ -92,10 +105,13 @@ def _generate(name: str, target: str) -> click.Command:
     params = [p for p in still.params if p.name in fields]  # the still command's own options
     timed = "phase" in fields
 
-    def callback(output_: Any, overwrite_: bool, loop: float | None = None, **values: Any) -> None:
+    def callback(
+        output_: Any, overwrite_: bool, size_: Any, loop: float | None = None, **values: Any
+    ) -> None:
         from ..recipe import Recipe
 
         ctx = click.get_current_context()
+        _size_after(ctx, size_)
         data = recipe_of_command(ctx, still, values)
         label: Any = f"video ... {name}"
         if loop is not None:
@@ -172,10 +188,12 @@ def video_schottky(
     loop: float | None,
     output_: Any,
     overwrite_: bool,
+    size_: Any,
 ) -> None:
     """A Schottky group image on every frame, with the options of `spherewarp schottky`
     (frame k equals `spherewarp schottky` of frame k; --loop S: the --frames loop, S seconds
     a turn)."""
+    _size_after(ctx, size_)
     from ._files import job
     from .schottky_cmds import check_generators, schottky_map
 
@@ -215,9 +233,11 @@ def video_project(
     roll: float,
     output_: Any,
     overwrite_: bool,
+    size_: Any,
 ) -> None:
     """Reproject every frame into another grid, as `spherewarp project --to NAME` does
     (bicubic): little-planet, rectilinear, fisheye, cubemap, ... (--size: the view's size)."""
+    _size_after(ctx, size_)
     from ..maps import Mobius
 
     o = ctx.obj
@@ -257,12 +277,14 @@ def video_splitscreen(
     look_at: tuple[float, float] | None,
     output_: Any,
     overwrite_: bool,
+    size_: Any,
 ) -> None:
     """Combine clips filmed from one spot, frame by frame, on the sheets of a branched cover,
     as `spherewarp splitscreen` combines stills: `spherewarp video a.mp4 b.mp4 -o out.mp4
     splitscreen`. The clips are decoded in lock-step and need one frame rate; the shortest
     ends the output (a note says so). The first clip's frame times and audio are kept. An
     --seam auto is chosen on the first frames and kept for the whole video."""
+    _size_after(ctx, size_)
     import spherewarp.effects.splitscreen as ss
 
     from ..io.multiclip import render_clips
