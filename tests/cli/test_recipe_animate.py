@@ -110,8 +110,10 @@ def test_animate_errors_are_one_line_and_write_nothing(tmp_path, pano):
     assert "exists; pass --overwrite" in err
     assert not (tmp_path / "f_0000.png").exists()
     assert (tmp_path / "f_0001.png").read_bytes() == b"keep"
-    code, _, err = run(None, "animate", timed, pano, "--fps", "2", "-o", tmp_path / "v.mp4")
-    assert code == 2 and "Traceback" not in err
+    code, _, err = run(None, "animate", timed, pano, "--fps", "2", "-o", tmp_path / "v.mkv")
+    assert code == 0 and (tmp_path / "v.mkv").exists()  # a video output: one file, encoded
+    code, _, err = run(None, "animate", timed, pano, "--fps", "2", "-o", tmp_path / "v.avi")
+    assert code == 2 and "Traceback" not in err  # not a video extension: an image one, refused
 
 
 def test_an_animated_droste_loop_to_mp4_loops(tmp_path):
