@@ -160,6 +160,101 @@ def test_bad_recipes_give_one_line_and_write_nothing(tmp_path, pano, name):
     assert not (tmp_path / "out.png").exists()
 
 
+def _recipe(*steps, **top):
+    return json.dumps({"spherewarp": 1, **top, "steps": list(steps)})
+
+
+_G = {"disk": [0, 0, 20], "to": [180, 0, 20]}
+#: more bad recipes: (text, what the one line must say: the field's path and what is wrong)
+BAD_NAMED = {
+    "negative factor named": (
+        _recipe({"rotate": {"yaw": 3}}, {"zoom": {"at": [0, 0], "factor": -1}}),
+        "steps[1].zoom.factor: expected a number >= 1e-09 and <= 1e+09, got -1",
+    ),
+    "did you mean": (
+        _recipe({"zooom": {"at": [0, 0], "factor": 2}}),
+        "steps[0]: unknown effect 'zooom' (did you mean 'zoom'?)",
+    ),
+    "unknown top-level field": ('{"spherewarp": 1, "stpes": []}', "stpes: unknown field (did you"),
+    "infinity": (
+        '{"spherewarp": 1, "steps": [{"rotate": {"yaw": 1e999}}]}',
+        "steps[0].rotate.yaw: expected a number, got inf",
+    ),
+    "newer version": ('{"spherewarp": 2, "steps": []}', "format version 2 is newer"),
+    "unknown easing": (
+        _recipe({"rotate": {"yaw": {"keyframes": [[0, 0], [1, 9]], "easing": "bounce"}}}),
+        "steps[0].rotate.yaw.easing: expected one of",
+    ),
+    "missing parameter": (_recipe({"zoom": {"at": [0, 0]}}), "steps[0].zoom.factor: missing"),
+    "steps not a list": ('{"spherewarp": 1, "steps": {}}', "steps: expected a list of steps"),
+    "loop without a duration": (_recipe(loop=True), "loop: a loop needs a 'duration'"),
+    "overlapping schottky disks": (
+        _recipe({"schottky": {"generators": [{"disk": [0, 0, 20], "to": [30, 0, 20]}]}}),
+        "steps[0].schottky.generators[0]: the disks (0,0,20) and (30,0,20) overlap by 10",
+    ),
+    "schottky disk radius": (
+        _recipe({"schottky": {"generators": [{"disk": [0, 0, -5], "to": [180, 0, 20]}]}}),
+        "steps[0].schottky.generators[0].disk[2]: expected a number > 0 and <= 180, got -5",
+    ),
+    "schottky generator both forms": (
+        _recipe({"schottky": {"generators": [{**_G, "matrix": [1, 0, 0, 1]}]}}),
+        "steps[0].schottky.generators[0]: expected 'to' (a second disk) or 'matrix', not both",
+    ),
+    "schottky targets without a mask": (
+        _recipe({"schottky": {"generators": [_G], "targets": [{"colour": "red", "zoom": 4}]}}),
+        "steps[0].schottky.mask: missing",
+    ),
+    "schottky not hyperbolic": (
+        _recipe({"schottky": {"generators": [{"disk": [0, 0, 20], "matrix": [1, 0, 0, 1]}]}}),
+        "steps[0].schottky: generator 1: expected a hyperbolic",
+    ),
+    "missing inputs for splitscreen": (
+        _recipe({"splitscreen": {"images": 2}}, inputs=["a.png"]),
+        "inputs: expected 2 input names for splitscreen, got 1",
+    ),
+    "splitscreen not alone": (
+        _recipe({"rotate": {"yaw": 3}}, {"splitscreen": {}}),
+        "steps[1].splitscreen: renders a picture of its own",
+    ),
+    "peirce with a projection": (
+        _recipe({"peirce": {}}, view={"projection": "fisheye"}),
+        "view: peirce makes a flat picture of its own",
+    ),
+    "droste mask not found": (
+        _recipe({"droste": {"mask": "nowhere.png"}}),
+        "steps[0].droste.mask: expected an image file, got 'nowhere.png'",
+    ),
+    "torus cells": (
+        _recipe({"torus": {"cells": [0, 1]}}),
+        "steps[0].torus.cells[0]: expected an integer from 1 to 64, got 0",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD_NAMED))
+def test_bad_recipes_name_the_field_in_one_line(tmp_path, pano, name):
+    a, _ = pano
+    r = tmp_path / "bad.json"
+    text, message = BAD_NAMED[name]
+    r.write_text(text)
+    err = fails(None, "render", r, a, "-o", tmp_path / "out.png")
+    assert message in err and "Traceback" not in err, err
+    assert not (tmp_path / "out.png").exists()
+
+
+def test_at_least_fifteen_kinds_of_bad_recipe():
+    assert len(BAD) + len(BAD_NAMED) + 1 >= 15  # + the 50 MB recipe
+
+
+def test_a_split_screen_recipe_needs_its_inputs(tmp_path, pano):
+    a, b = pano
+    r = tmp_path / "s.json"
+    r.write_text(_recipe({"splitscreen": {"images": 2, "seam": 0}}))
+    err = fails(None, "render", r, a, "-o", tmp_path / "out.png")
+    assert "renders from 2 inputs (splitscreen), got 1" in err
+    assert not (tmp_path / "out.png").exists()
+
+
 def test_a_50_mb_recipe_is_refused(tmp_path, pano):
     r = tmp_path / "big.json"
     with r.open("wb") as fh:

@@ -47,7 +47,7 @@ def _json_of_fit(data: dict[str, Any]) -> str:
     epilog=example(
         "spherewarp lattes room.jpg --lattice square --alpha 1+1j -o twist.jpg",
         "spherewarp lattes room.jpg --lattice hex --alpha 1+w -o triple.jpg",
-        "spherewarp lattes --lattice square --alpha 2+1j --print",
+        "spherewarp lattes --lattice square --alpha 2+1j --print-map",
     )
 )
 @input_argument(required=False)
@@ -117,7 +117,7 @@ def lattes(
 
         if lmap.degree > MAX_FITTED_DEGREE:
             raise InvalidValueError(
-                f"--print shows the fitted rational map, which holds for |alpha|^2 <= "
+                f"--print-map shows the fitted rational map, which holds for |alpha|^2 <= "
                 f"{MAX_FITTED_DEGREE}; alpha = {alpha} has degree {lmap.degree}"
             )
         data = {**lmap.rational().to_dict(), "degree": lmap.degree}
