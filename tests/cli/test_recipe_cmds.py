@@ -387,6 +387,7 @@ def test_recipe_view_projection_is_checked():
 DATA = Path(__file__).resolve().parents[2] / "src" / "spherewarp" / "data"
 FRAME = ("--frame", "-173,23.6", "-153.8,24.5", "-153.8,-14.8", "-173,-14.2")
 G1, G2 = "38,8,24 -> -40,-55,22", "-163,5,9 -> -110,55,18"
+ROUND = ("--target", "red", "-40,-55,22", "--target", "green", "60", "--regions", "round")
 #: (command, options...): "{B}" is the second input, "{HOLE}" a Droste mask, "{MASK}" the
 #: bundled Schottky mask; every command runs on interior.png at a reduced --size
 EVERY = [
@@ -414,8 +415,7 @@ EVERY = [
     ("schottky", "--generator", G1, "--twist", "15", "--depth", "6", "--phase", "0.25"),
     ("schottky", "--generator", "0,90,20:30,0,0,1"),
     ("schottky", "--mask", "{MASK}", "--target", "red", "40", "--target", "green", "60"),
-    ("schottky", "--mask", "{MASK}", "--target", "red", "-40,-55,22", "--target", "green",
-     "60", "--regions", "round", "--generator", "0,90,10 -> 0,-90,10"),  # fmt: skip
+    ("schottky", "--mask", "{MASK}", *ROUND, "--generator", "0,90,10 -> 0,-90,10"),
     ("splitscreen", "{B}", "--cover", "power", "--n", "2"),
     ("splitscreen", "{B}", "--cover", "exp", "--lam", "3", "--seam", "40", "--feather", "20"),
     ("peirce", "--lon0", "30"),
