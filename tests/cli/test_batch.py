@@ -93,5 +93,5 @@ def test_batch_never_overwrites_an_input_or_an_earlier_output(workdir, images):
 
 
 def test_lattes_print_needs_no_input(workdir):
-    code, out, err = run(None, "lattes", "--alpha", "2", "--print")
+    code, out, err = run(None, "lattes", "--alpha", "2", "--print-map")
     assert code == 0 and out.startswith("{"), err

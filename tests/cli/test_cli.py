@@ -73,7 +73,7 @@ def test_rotate_yaw_is_a_roll_of_the_columns(capsys, pattern_png, yaw, shift):
 
 
 def test_rotate_yaw_brings_lon_90_to_the_centre(capsys, pattern_png):
-    out = json.loads(ok(capsys, "rotate", pattern_png, "--yaw", 90, "--print"))
+    out = json.loads(ok(capsys, "rotate", pattern_png, "--yaw", 90, "--print-map"))
     forward = map_from_json(json.dumps(out))
     np.testing.assert_allclose(forward.apply_lonlat([90.0, 0.0]), [0.0, 0.0], atol=1e-9)
 
@@ -184,14 +184,14 @@ def test_zoom_at_pixel_is_zoom_at_its_lonlat(capsys, pattern_png):
     )
     np.testing.assert_array_equal(read_image("a.png").pixels, read_image("b.png").pixels)
     forward = map_from_json(
-        ok(capsys, "zoom", pattern_png, "--at-pixel", f"{x},{y}", "--factor", 3, "--print")
+        ok(capsys, "zoom", pattern_png, "--at-pixel", f"{x},{y}", "--factor", 3, "--print-map")
     )
     assert forward == Mobius.zoom((lon, lat), 3)
 
 
 def test_zoom_center_brings_the_point_to_the_front(capsys, pattern_png):
     forward = map_from_json(
-        ok(capsys, "zoom", pattern_png, "--at", "-120,30", "--factor", 2, "--center", "--print")
+        ok(capsys, "zoom", pattern_png, "--at", "-120,30", "--factor", 2, "--center", "--print-map")
     )
     np.testing.assert_allclose(forward.apply_lonlat([-120.0, 30.0]), [0.0, 0.0], atol=1e-9)
     assert forward.local_scale(coords.cp1_from_lonlat(np.radians([-120.0, 30.0]))) == (
@@ -243,7 +243,7 @@ def test_mobius_matrix_pushes_forward(capsys, pattern_png):
 
 
 def test_mobius_matrix_print(capsys, pattern_png):
-    forward = map_from_json(ok(capsys, "mobius", pattern_png, "--matrix", "1,0.5,0,1", "--print"))
+    forward = map_from_json(ok(capsys, "mobius", pattern_png, "--matrix", "1,0.5,0,1", "--print-map"))
     assert forward == Mobius([[1, 0.5], [0, 1]])
     assert complex(forward(1j)) == pytest.approx(0.5 + 1j)
     assert not Path("in-mobius.png").exists()
@@ -253,7 +253,7 @@ def test_mobius_three_points(capsys, pattern_png):
     p = [(0, 0), (90, 0), (0, 90)]
     q = [(10, 5), (60, -10), (-30, 70)]
     args = ["--from", *(f"{a},{b}" for a, b in p), "--to", *(f"{a},{b}" for a, b in q)]
-    forward = map_from_json(ok(capsys, "mobius", pattern_png, *args, "--print"))
+    forward = map_from_json(ok(capsys, "mobius", pattern_png, *args, "--print-map"))
     for a, b in zip(p, q, strict=True):
         moved = coords.xyz_from_lonlat(np.radians(forward.apply_lonlat(np.asarray(a, float))))
         np.testing.assert_allclose(moved, coords.xyz_from_lonlat(np.radians(b)), atol=1e-9)

@@ -62,7 +62,7 @@ def test_radius_mask_far_phase_and_print(capsys, pattern, workdir) -> None:
     ok(capsys, "droste", path, "-o", "m.png", "--mask", "mask.png", "--scale", "4")
     dm = droste_map(hole_from_mask(mask), 4.0)
     np.testing.assert_array_equal(read_image("m.png").pixels, warp(pixels, dm))
-    text = ok(capsys, "droste", path, "--frame", *FRAME, "--twist", "--print")
+    text = ok(capsys, "droste", path, "--frame", *FRAME, "--twist", "--print-map")
     m = map_from_json(text)
     assert isinstance(m, TwistedDroste) and not Path("in-droste.png").exists()
 

@@ -24,12 +24,12 @@ def pano(workdir: Path, random_image) -> tuple[Path, np.ndarray]:
 
 # ---------------------------------------------------------------------- lattes
 def test_lattes_print_gives_the_papers_map(capsys):
-    data = json.loads(ok(capsys, "lattes", "--lattice", "square", "--alpha", "1+1j", "--print"))
+    data = json.loads(ok(capsys, "lattes", "--lattice", "square", "--alpha", "1+1j", "--print-map"))
     assert data["degree"] == 2 and data["residual"] < 1e-12
     np.testing.assert_allclose(data["numerator"], [[0, -0.5], [0, 0], [0, 0.5]], atol=1e-12)
     assert data["denominator"] == [[1.0, 0.0], [0.0, 0.0]]
     assert map_from_dict(data) == Rational([-0.5j, 0, 0.5j], [1, 0])
-    hexa = json.loads(ok(capsys, "lattes", "--lattice", "HEX", "--alpha", "1+w", "--print"))
+    hexa = json.loads(ok(capsys, "lattes", "--lattice", "HEX", "--alpha", "1+w", "--print-map"))
     assert hexa["degree"] == 3 and len(hexa["numerator"]) == 4
 
 
@@ -49,7 +49,7 @@ def test_lattes_renders_like_the_api(capsys, workdir, pano):
         (["--alpha", "1+w", "--print"], "Gaussian integer"),
         (["--alpha", "0.5", "--print"], "Gaussian integer"),
         (["--alpha", "8+1j", "--print"], "<= 64"),
-        (["--alpha", "8", "--print"], "<= 49"),
+        (["--alpha", "8", "--print-map"], "<= 49"),
         (["--alpha", "2"], "missing INPUT"),
         (["--lattice", "triangle", "--alpha", "2", "--print"], "triangle"),
     ],

@@ -38,7 +38,7 @@ def test_matches_the_python_api(pattern):
 
 def test_print_round_trips_and_matrix_form(pattern):
     path, _ = pattern
-    text = ok(None, "schottky", path, "--print", "--generator", "0,90,20:30,0,0,1")
+    text = ok(None, "schottky", path, "--print-map", "--generator", "0,90,20:30,0,0,1")
     s = map_from_json(text)
     assert isinstance(s, Schottky)
     assert abs(s.target_disks()[0].lat + 90) < 1e-6
@@ -138,7 +138,7 @@ def test_mask_workflow(pattern):
     assert np.array_equal(read_image("m.png").pixels, warp(pixels, exact))
     assert np.array_equal(read_image("r.png").pixels, warp(pixels, s))
     assert not np.array_equal(read_image("m.png").pixels, read_image("r.png").pixels)
-    printed = map_from_json(ok(None, "schottky", path, *args, "--print"))
+    printed = map_from_json(ok(None, "schottky", path, *args, "--print-map"))
     assert printed.regions is not None and printed == exact
     err = fails(None, "schottky", path, "-o", "g.png", *args, "--generator", G1)
     assert "--regions round" in err

@@ -498,12 +498,21 @@ def test_the_readme_recipe_is_valid():
     blocks = re.findall(r"^```json\n(.*?)^```", text, re.MULTILINE | re.DOTALL)
     assert blocks
     schema = json_schema()
+    assert len(blocks) >= 2
     for block in blocks:
         data = json.loads(block)
         assert _check(schema, data, schema)
-        r = Recipe.from_dict(data)
-        assert r.animated and r.duration == 4
-        assert r.step_values(1, 4.0)["factor"] == pytest.approx(8.0)
+        Recipe.from_dict(data)
+    r = Recipe.from_dict(json.loads(blocks[0]))
+    assert r.animated and r.duration == 4
+    assert r.step_values(1, 4.0)["factor"] == pytest.approx(8.0)
+    # the Schottky loop: every kind of field (a generator of each form, a phase track, the view)
+    r = Recipe.from_dict(json.loads(blocks[1]))
+    assert r.loop and r.step_values(0, 1.0)["phase"] == pytest.approx(0.5)
+    data = json.loads(blocks[1])
+    data["view"]["size"] = [32, 32]
+    out = Recipe.from_dict(data).render(np.zeros((32, 64, 3), np.uint8), t=0.5)
+    assert out.shape == (32, 32, 3)
 
 
 def test_mobius_amount_moves_at_constant_speed_along_its_group():

@@ -19,7 +19,7 @@ from typing import Any
 import click
 
 from ._common import POINT, RealType, RenderOptions, example, input_argument, render_options
-from .recipe_cmds import recipe_options, saving_recipe
+from .recipe_cmds import recipe_options, render_recipe, saving_recipe
 
 __all__ = ["power", "exp", "map_cmd", "splitscreen"]
 
@@ -339,6 +339,7 @@ def map_cmd(
     help="Width in degrees of input longitude of the cross-fade across each seam (0: hard cut).",
 )
 @click.option("--look-at", type=POINT, default=None, help=_LOOK_AT_HELP)
+@recipe_options
 @render_options
 def splitscreen(
     inputs: tuple[Path, ...],
@@ -350,6 +351,8 @@ def splitscreen(
     seam: str | float,
     feather: float,
     look_at: tuple[float, float] | None,
+    save_recipe: Path | None = None,
+    dry_run: bool = False,
 ) -> None:
     """Combine panoramas taken from one spot on the sheets of a branched cover.
 
@@ -379,27 +382,26 @@ def splitscreen(
     labels = [f"input {k + 1}" for k in range(len(inputs))]
     for path, label in zip(inputs, labels, strict=True):
         job().reads(path, label)
-    output_path(render, inputs[0], "splitscreen")  # refuse a bad output first
-    sources = [load_input(path, render, label) for path, label in zip(inputs, labels, strict=True)]
-    pixels = [s.pixels for s in sources]
-    options: dict[str, Any] = {
+    step: dict[str, Any] = {
+        "images": len(inputs),
         "cover": cover,
         "n": n,
         "lam": lam,
-        "branch_points": branch_points or None,
-        "force": render.force,
+        "branch_points": _points(branch_points),
+        "seam": seam,
+        "feather": feather,
+        "look_at": _points(look_at),
     }
-    if seam == "auto":
-        seam = ss.auto_seam(pixels, feather_deg=feather, **options)
-        click.echo(f"seam: input meridian at longitude {seam:.1f} (auto)")
-    kwargs = render.warp_kwargs(pixels[0])
-    kwargs.pop("force", None)
-    out = ss.splitscreen(
-        pixels,
-        seam=float(seam),
-        feather_deg=feather,
-        view=_look_at(look_at),
-        **options,
-        **kwargs,
-    )
-    save_output(out, sources[0], render, command="splitscreen")
+    with saving_recipe({"splitscreen": step}, render, list(inputs), save_recipe, dry_run) as dry:
+        if dry:
+            return
+        output_path(render, inputs[0], "splitscreen")  # refuse a bad output first
+        sources = [load_input(p, render, label) for p, label in zip(inputs, labels, strict=True)]
+        if seam == "auto":  # the seam the recipe's 'auto' finds, said once
+            pixels = [s.pixels for s in sources]
+            options = {"cover": cover, "n": n, "lam": lam, "branch_points": branch_points or None}
+            found = ss.auto_seam(pixels, feather_deg=feather, **options, force=render.force)
+            click.echo(f"seam: input meridian at longitude {found:.1f} (auto)")
+            step = {**step, "seam": float(found)}
+        out = render_recipe({"splitscreen": step}, render, sources, "splitscreen")[0]
+        save_output(out, sources[0], render, command="splitscreen")

@@ -18,7 +18,13 @@ from typing import Any
 import click
 
 from ._common import POINT, RealType, RenderOptions, example, input_argument, render_options
-from .recipe_cmds import recipe_options, saving_recipe
+from .recipe_cmds import (
+    print_options,
+    recipe_options,
+    render_recipe,
+    saving_recipe,
+)
+from .recipe_cmds import print_recipe as show_recipe
 
 __all__ = ["droste", "frame_paths"]
 
@@ -207,7 +213,7 @@ def _check_suffix(path: Path) -> None:
     help="Another image for the copies inside the frame (repeatable: copy d shows "
     "image d mod K of INPUT, IMG1, ...).",
 )
-@click.option("--print", "print_map", is_flag=True, help="Print the map as JSON, render nothing.")
+@print_options
 @recipe_options
 @render_options
 def droste(
@@ -229,7 +235,8 @@ def droste(
     view: str,
     periods: float,
     inside: tuple[Path, ...],
-    print_map: bool,
+    print_recipe: bool = False,
+    print_map: bool = False,
     save_recipe: Path | None = None,
     dry_run: bool = False,
 ) -> None:
@@ -240,7 +247,6 @@ def droste(
     again, scaled by 1/λ, and again; looking away you see a flower-shaped
     portal round the far point. --twist turns the copies into Escher's spiral.
     """
-    from ..effects import droste as dr
     from ._common import convert_for_output, load_input, output_name, output_path, save_output
     from ._files import job
 
@@ -260,15 +266,10 @@ def droste(
     view = view.lower()
     if view != "equirect" and frames is not None:
         raise click.UsageError("--frames renders the equirectangular loop; drop --view")
-    if (save_recipe or dry_run) and (mask is not None or inside or view != "equirect"):
-        raise click.UsageError(
-            "--save-recipe takes a frame named by --frame or --inner-radius, rendered as an "
-            "equirectangular image (not --mask, --inside or --view yet)"
-        )
-
-    if not (print_map or dry_run):  # every file read and written, checked before any work
-        if mask is not None:
-            job().reads(mask, "--mask image")
+    printing = print_map or print_recipe
+    if mask is not None:
+        job().reads(mask, "--mask image")
+    if not (printing or dry_run):  # every file read and written, checked before any work
         for path in inside:
             job().reads(path, "--inside image")
         if view != "equirect":
@@ -282,31 +283,6 @@ def droste(
                 one = replace(render, output=p, output_dir=False)
                 _check_suffix(output_path(one, input, "droste", given=str(pattern)))
 
-    if frame is not None:
-        hole = dr.hole_from_corners(list(frame), center, far=far)
-    elif mask is not None:
-        from ..io import read_image
-
-        hole = dr.hole_from_mask(
-            read_image(mask, max_pixels=render.max_pixels).pixels, center, far=far
-        )
-    else:
-        hole = dr.hole_from_radius(center, inner_radius, far=far)
-    d = dr.droste_map(
-        hole,
-        scale,
-        twist=twist,
-        strands=strands,
-        periodicity=periodicity,
-        phase=phase,
-        n_images=1 + len(inside),
-        border=border,
-        margin=margin,
-    )
-    if print_map:
-        click.echo(d.to_json())
-        return
-
     step: dict[str, Any] = {
         "center": None if center is None else list(center),
         "frame": None if frame is None else [list(p) for p in frame],
@@ -317,18 +293,32 @@ def droste(
         "margin": margin,
         "twist": twist,
         "phase": phase,
+        "mask": mask,
     }
+    if inside:
+        step["images"] = 1 + len(inside)
+    if view != "equirect":
+        step.update(view=view, periods=periods)
     top: dict[str, Any] = {}
     if twist:
         step.update(strands=strands, periodicity=periodicity)
     if frames is not None:  # a loop: 'spherewarp animate R.json IN --fps FRAMES' replays it
         step["phase"] = {"keyframes": [[0, phase], [1, phase + 1]]}
         top = {"duration": 1, "loop": True}
-    with saving_recipe({"droste": step}, render, input, save_recipe, dry_run, top) as dry:
+    inputs = [input, *inside] if inside else input
+    if print_map:
+        from .recipe_cmds import command_recipe, recipe_of
+
+        click.echo(command_recipe(recipe_of({"droste": step}, render)).map_at(0.0).to_json())
+        return
+    if print_recipe:
+        show_recipe({"droste": step}, render, inputs, top)
+        return
+    with saving_recipe({"droste": step}, render, inputs, save_recipe, dry_run, top) as dry:
         if dry:
             return
         src = load_input(input, render)
-        images = [src.pixels]
+        images = [src]
         for path in inside:
             extra = load_input(path, render, "--inside image")
             if (
@@ -342,23 +332,13 @@ def droste(
                     f"({src.pixels.dtype}, {src.pixels.shape[2]}), got {extra.pixels.dtype}, "
                     f"{extra.pixels.shape[2]}"
                 )
-            images.append(extra.pixels)
-        kwargs = render.warp_kwargs(src.pixels)
+            images.append(extra)
 
         if view != "equirect":
             from ..io import write_image
 
             out = output_path(render, input, "droste-log")
-            height = render.size[1] if render.size is not None else None
-            pixels = dr.log_view(
-                images,
-                d,
-                height=height,
-                periods=periods,
-                plane="input" if view == "log" else "output",
-                interp=render.interp,
-                supersample=render.supersample,
-            )
+            pixels = render_recipe({"droste": step}, render, images, "droste")[0]
             pixels = convert_for_output(pixels, out, render)
             written = write_image(
                 out,
@@ -373,15 +353,16 @@ def droste(
             return
 
         if frames is None:
-            click.echo(f"droste: scale {d.scale:.4g}" + (" (auto)" if scale == "auto" else ""))
-            save_output(dr.droste_image(images, d, **kwargs), src, render, command="droste")
+            pixels, _, fr = render_recipe({"droste": step}, render, images, "droste")
+            click.echo(f"droste: scale {fr.map.scale:.4g}" + (" (auto)" if scale == "auto" else ""))
+            save_output(pixels, src, render, command="droste")
             return
 
         per_frame = [replace(render, output=p, output_dir=False) for p in paths]
         for p in {p.parent for p in paths}:
             p.mkdir(parents=True, exist_ok=True)
-        click.echo(f"droste: scale {d.scale:.4g}, {frames} frames")
-        for r, pixels in zip(
-            per_frame, dr.droste_frames(images, d, frames, start=phase, **kwargs), strict=True
-        ):
+        for k, r in enumerate(per_frame):  # frame k at t = k / N s of the loop recipe
+            pixels, _, fr = render_recipe({"droste": step}, r, images, "droste", top, k / frames)
+            if k == 0:
+                click.echo(f"droste: scale {fr.map.scale:.4g}, {frames} frames")
             save_output(pixels, src, r, command="droste")  # atomic, as every image written

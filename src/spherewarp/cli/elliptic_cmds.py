@@ -14,7 +14,13 @@ from typing import Any
 import click
 
 from ._common import RenderOptions, example, input_argument, render_options, save_output
-from .recipe_cmds import recipe_options, saving_recipe
+from .recipe_cmds import (
+    print_options,
+    recipe_options,
+    render_recipe,
+    saving_recipe,
+)
+from .recipe_cmds import print_recipe as show_recipe
 
 __all__ = ["lattes", "fit_rational_cmd", "peirce", "torus"]
 
@@ -41,7 +47,7 @@ def _json_of_fit(data: dict[str, Any]) -> str:
     epilog=example(
         "spherewarp lattes room.jpg --lattice square --alpha 1+1j -o twist.jpg",
         "spherewarp lattes room.jpg --lattice hex --alpha 1+w -o triple.jpg",
-        "spherewarp lattes --lattice square --alpha 2+1j --print",
+        "spherewarp lattes --lattice square --alpha 2+1j --print-map",
     )
 )
 @input_argument(required=False)
@@ -66,11 +72,17 @@ def _json_of_fit(data: dict[str, Any]) -> str:
     "map (same image, slower).",
 )
 @click.option(
-    "--print",
+    "--print-map",
     "print_map",
     is_flag=True,
     help="Print the fitted rational map as JSON (coefficients [re, im], highest degree "
     "first) instead of rendering; INPUT is not needed.",
+)
+@click.option(
+    "--print",
+    "print_recipe_",
+    is_flag=True,
+    help="Print the recipe of this render as JSON instead of rendering; INPUT is not needed.",
 )
 @recipe_options
 @render_options
@@ -80,7 +92,8 @@ def lattes(
     lattice: str,
     alpha: str,
     exact: bool,
-    print_map: bool,
+    print_map: bool = False,
+    print_recipe_: bool = False,
     save_recipe: Path | None = None,
     dry_run: bool = False,
 ) -> None:
@@ -104,7 +117,7 @@ def lattes(
 
         if lmap.degree > MAX_FITTED_DEGREE:
             raise InvalidValueError(
-                f"--print shows the fitted rational map, which holds for |alpha|^2 <= "
+                f"--print-map shows the fitted rational map, which holds for |alpha|^2 <= "
                 f"{MAX_FITTED_DEGREE}; alpha = {alpha} has degree {lmap.degree}"
             )
         data = {**lmap.rational().to_dict(), "degree": lmap.degree}
@@ -112,8 +125,13 @@ def lattes(
         click.echo(_json_of_fit(data))
         return
     step = {"lattes": {"alpha": alpha, "lattice": lattice.lower(), "exact": exact}}
+    if print_recipe_:
+        show_recipe(step, render, input)
+        return
     if input is None and not dry_run:
-        raise click.UsageError("missing INPUT (only --print and --dry-run work without an image)")
+        raise click.UsageError(
+            "missing INPUT (only --print, --print-map and --dry-run work without an image)"
+        )
     from ..render import warp
     from ._common import load_input, output_path
 
@@ -188,8 +206,19 @@ def fit_rational_cmd(expr: str, degree: int | None, max_degree: int) -> None:
     show_default=True,
     help="Central meridian in degrees (PROJ's +lon_0): it runs to the bottom-left corner.",
 )
+@print_options
+@recipe_options
 @render_options
-def peirce(input: Path, render: RenderOptions, inverse: bool, lon0: float) -> None:
+def peirce(
+    input: Path,
+    render: RenderOptions,
+    inverse: bool,
+    lon0: float,
+    print_recipe: bool = False,
+    print_map: bool = False,
+    save_recipe: Path | None = None,
+    dry_run: bool = False,
+) -> None:
     """Peirce's quincuncial projection: the whole sphere in a square.
 
     The zenith is at the centre, the nadir at the four corners; conformal
@@ -200,13 +229,24 @@ def peirce(input: Path, render: RenderOptions, inverse: bool, lon0: float) -> No
     import math
 
     from ..errors import InvalidValueError
-    from ..grids.peirce import peirce_to_equirect, render_peirce
+    from ..grids.peirce import peirce_to_equirect
     from ._common import output_path
 
     render.refuse_view("peirce")
 
     if not math.isfinite(lon0):
         raise click.BadParameter(f"expected a finite longitude, got {lon0!r}", param_hint="--lon0")
+    if inverse and (save_recipe or dry_run or print_recipe or print_map):
+        raise click.UsageError(
+            "--inverse takes a Peirce square back to the sphere: it has no recipe or map "
+            "(a recipe renders panoramas)"
+        )
+    if print_map:
+        raise click.UsageError("peirce renders a picture of its own, not a map: use --print")
+    step = {"peirce": {"lon0": lon0}}
+    if print_recipe:
+        show_recipe(step, render, input)
+        return
     if inverse:
         from ..io import read_image
 
@@ -230,19 +270,13 @@ def peirce(input: Path, render: RenderOptions, inverse: bool, lon0: float) -> No
         return
     from ._common import load_input
 
-    _check_suffix(output_path(render, input, "peirce"))
-    src = load_input(input, render)
-    size = render.size[0] if render.size else None
-    out = render_peirce(
-        src.pixels,
-        size,
-        lon0=lon0,
-        interp=render.interp,
-        supersample=render.supersample,
-        force=render.force,
-        progress=render.progress(),
-    )
-    save_output(out, src, render, "peirce", gpano=False)
+    with saving_recipe(step, render, input, save_recipe, dry_run) as dry:
+        if dry:
+            return
+        _check_suffix(output_path(render, input, "peirce"))
+        src = load_input(input, render)
+        out = render_recipe(step, render, src, "peirce")[0]
+        save_output(out, src, render, "peirce", gpano=False)
 
 
 # -- torus -------------------------------------------------------------------------------
@@ -271,10 +305,23 @@ def peirce(input: Path, render: RenderOptions, inverse: bool, lon0: float) -> No
     "--mesh",
     type=click.Path(dir_okay=False, path_type=Path),
     metavar="OUT.obj",
-    help="Also write a textured torus: OUT.obj, OUT.mtl and OUT_texture.png.",
+    help="Also write a textured torus: OUT.obj, OUT.mtl and OUT_texture.png (not part of "
+    "the recipe).",
 )
+@print_options
+@recipe_options
 @render_options
-def torus(input: Path, render: RenderOptions, lattice: str, cells: str, mesh: Path | None) -> None:
+def torus(
+    input: Path,
+    render: RenderOptions,
+    lattice: str,
+    cells: str,
+    mesh: Path | None,
+    print_recipe: bool = False,
+    print_map: bool = False,
+    save_recipe: Path | None = None,
+    dry_run: bool = False,
+) -> None:
     """Toroidal image: pull a 360° image back to the torus by Weierstrass p.
 
     The unit cell holds two copies of the panorama and four branch points
@@ -284,10 +331,8 @@ def torus(input: Path, render: RenderOptions, lattice: str, cells: str, mesh: Pa
     sets the width (the height follows from the cells); default: the input's
     width.
     """
-    from ..effects.torus import parse_cells, render_torus, render_torus_texture, write_torus_obj
-    from ..errors import InvalidValueError, OutputExistsError
-    from ._common import load_input, output_path
-    from ._files import job
+    from ..effects.torus import parse_cells
+    from ..errors import InvalidValueError
 
     render.refuse_view("torus")
 
@@ -295,22 +340,41 @@ def torus(input: Path, render: RenderOptions, lattice: str, cells: str, mesh: Pa
         cxy = parse_cells(cells)
     except InvalidValueError as exc:
         raise click.BadParameter(str(exc), param_hint="--cells") from None
+    if print_map:
+        raise click.UsageError("torus renders a picture of its own, not a map: use --print")
+    lat = lattice.lower()
+    step = {"torus": {"lattice": lat, "cells": list(cxy)}}
+    if print_recipe:
+        show_recipe(step, render, input)
+        return
     if mesh is not None:
         if mesh.suffix.lower() != ".obj":
             raise click.BadParameter(
                 f"expected a file name ending in .obj, got {str(mesh)!r}", param_hint="--mesh"
             )
+    with saving_recipe(step, render, input, save_recipe, dry_run) as dry:
+        if not dry:
+            _torus(input, render, step, mesh, cxy)
+
+
+def _torus(
+    input: Path, render: RenderOptions, step: dict[str, Any], mesh: Path | None, cxy: Any
+) -> None:
+    from ..effects.torus import render_torus_texture, write_torus_obj
+    from ..errors import OutputExistsError
+    from ._common import load_input, output_path
+    from ._files import job
+
     _check_suffix(output_path(render, input, "torus"))
+    lat = step["torus"]["lattice"]
     if mesh is not None:
         for p in (mesh, mesh.with_suffix(".mtl"), mesh.with_name(mesh.stem + "_texture.png")):
             job().writes(p, "--mesh", str(mesh))
             if p.exists() and not render.overwrite:
                 raise OutputExistsError(f"{str(p)!r} exists; pass --overwrite to replace it")
     src = load_input(input, render)
-    lat = lattice.lower()
-    width = render.size[0] if render.size else None
     kw = {"interp": render.interp, "supersample": render.supersample, "force": render.force}
-    out = render_torus(src.pixels, lat, cells=cxy, width=width, progress=render.progress(), **kw)
+    out = render_recipe(step, render, src, "torus")[0]
     save_output(out, src, render, "torus", gpano=False)
     if mesh is not None:
         texture = render_torus_texture(src.pixels, lat, cells=cxy, **kw)

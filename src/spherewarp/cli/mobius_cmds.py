@@ -1,7 +1,7 @@
 """``spherewarp rotate``, ``zoom`` and ``mobius``: Möbius transformations of an image.
 
 Each command builds the map that moves the content (the *forward* map), then
-renders by pulling the image back through its inverse. ``--print`` prints the
+renders by pulling the image back through its inverse. ``--print-map`` prints the
 forward map as JSON (:meth:`~spherewarp.maps.SphereMap.to_json`) instead of
 rendering; :func:`spherewarp.maps.map_from_json` reads it back and
 ``spherewarp.render.push(image, m)`` renders it.
@@ -16,7 +16,8 @@ from typing import Any
 import click
 
 from ._common import PIXEL, POINT, RealType, RenderOptions, example, input_argument, render_options
-from .recipe_cmds import recipe_options, saving_recipe
+from .recipe_cmds import print_options, recipe_options, saving_recipe
+from .recipe_cmds import print_recipe as show_recipe
 
 __all__ = ["rotate", "zoom", "mobius"]
 
@@ -60,11 +61,6 @@ ANGLE = RealType("an angle in degrees", "30 or -12.5", metavar="DEG")
 # Beyond 1e9 either way the whole image is one pixel and the matrix nears double precision.
 FACTOR = RealType("a zoom factor", "2, or 0.5 to zoom out", metavar="F", ge=1e-9, le=1e9)
 MATRIX = MatrixType()
-
-_PRINT_HELP = (
-    "Print the map that moves the content as JSON (spherewarp.maps.map_from_json reads it) "
-    "instead of rendering."
-)
 
 
 def check_output_suffix(path: Path) -> None:
@@ -163,7 +159,7 @@ def _render(
     help="With --axis: turn the content DEG counter-clockwise about the axis, "
     "as seen from the centre of the sphere looking at it.",
 )
-@click.option("--print", "print_map", is_flag=True, help=_PRINT_HELP)
+@print_options
 @recipe_options
 @render_options
 def rotate(
@@ -174,7 +170,8 @@ def rotate(
     roll: float | None,
     axis: tuple[float, float] | None,
     angle: float | None,
-    print_map: bool,
+    print_map: bool = False,
+    print_recipe: bool = False,
     save_recipe: Path | None = None,
     dry_run: bool = False,
 ) -> None:
@@ -210,6 +207,9 @@ def rotate(
     if print_map:
         click.echo(forward.to_json())
         return
+    if print_recipe:
+        show_recipe({"rotate": step}, render, input)
+        return
     with saving_recipe({"rotate": step}, render, input, save_recipe, dry_run) as dry:
         if not dry:
             _render(input, render, forward, "rotate", pose_moves=forward)
@@ -236,7 +236,7 @@ def rotate(
     help="Magnification at the point (1e-9 to 1e9); its antipode shrinks by the same factor.",
 )
 @click.option("--center", is_flag=True, help="Also turn the zoom point to the image centre.")
-@click.option("--print", "print_map", is_flag=True, help=_PRINT_HELP)
+@print_options
 @recipe_options
 @render_options
 def zoom(
@@ -246,7 +246,8 @@ def zoom(
     at_pixel: tuple[float, float] | None,
     factor: float,
     center: bool,
-    print_map: bool,
+    print_map: bool = False,
+    print_recipe: bool = False,
     save_recipe: Path | None = None,
     dry_run: bool = False,
 ) -> None:
@@ -274,7 +275,7 @@ def zoom(
         from .. import coords
         from ._common import load_input, output_path
 
-        if not (print_map or dry_run):
+        if not (print_map or print_recipe or dry_run):
             check_output_suffix(output_path(render, input, "zoom"))  # refuse a bad output early
         src = load_input(input, render)
         h, w = src.pixels.shape[:2]
@@ -287,10 +288,13 @@ def zoom(
         lon, lat = coords.lonlat_deg_from_pixel(np.array([x, y]), w, h)
         at = (float(lon), float(lat))
     forward, pose_moves = zoom_forward(at, factor, center)
+    step = {"at": list(at), "factor": factor, "center": center}
     if print_map:
         click.echo(forward.to_json())
         return
-    step = {"at": list(at), "factor": factor, "center": center}
+    if print_recipe:
+        show_recipe({"zoom": step}, render, input)
+        return
     with saving_recipe({"zoom": step}, render, input, save_recipe, dry_run) as dry:
         if not dry:
             _render(input, render, forward, "zoom", src, pose_moves=pose_moves)
@@ -323,7 +327,7 @@ def zoom(
 @click.option(
     "--to", "to_points", type=POINT, nargs=3, metavar="Q1 Q2 Q3", help="Three distinct points."
 )
-@click.option("--print", "print_map", is_flag=True, help=_PRINT_HELP)
+@print_options
 @recipe_options
 @render_options
 def mobius(
@@ -332,7 +336,8 @@ def mobius(
     matrix: tuple[complex, ...] | None,
     from_points: tuple[tuple[float, float], ...] | None,
     to_points: tuple[tuple[float, float], ...] | None,
-    print_map: bool,
+    print_map: bool = False,
+    print_recipe: bool = False,
     save_recipe: Path | None = None,
     dry_run: bool = False,
 ) -> None:
@@ -372,6 +377,9 @@ def mobius(
         step = {"from": [list(p) for p in from_points], "to": [list(p) for p in to_points]}
     if print_map:
         click.echo(forward.to_json())
+        return
+    if print_recipe:
+        show_recipe({"mobius": step}, render, input)
         return
     with saving_recipe({"mobius": step}, render, input, save_recipe, dry_run) as dry:
         if not dry:

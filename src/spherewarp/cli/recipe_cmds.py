@@ -16,16 +16,19 @@ from typing import Any
 
 import click
 
-from ._common import RealType, RenderOptions, example, input_argument, render_options
+from ._common import RealType, RenderOptions, example, render_options
 from ._video_out import encoding_options, is_video_output
 
 __all__ = [
     "render",
     "animate",
     "recipe_options",
+    "print_options",
     "saving_recipe",
     "recipe_of",
     "capturing_recipe",
+    "print_recipe",
+    "render_recipe",
 ]
 
 TIME = RealType("a time in seconds", "1.5", metavar="T")
@@ -69,14 +72,69 @@ def recipe_options(func: Callable) -> Callable:
     )(func)
 
 
+def command_recipe(data: dict[str, Any], base: Path | None = None) -> Any:
+    """The :class:`~spherewarp.recipe.Recipe` of a command's own options; its errors name
+    the options (``steps[0].droste.inner_radius: ...`` reads ``--inner-radius: ...``)."""
+    import re
+
+    from ..errors import InvalidValueError
+    from ..recipe import Recipe, RecipeError
+
+    try:
+        return Recipe.from_dict(data, base=base)
+    except RecipeError as exc:
+        m = re.match(r"steps\[0\]\.[a-z]+(?:\.([a-z_]+))?(.*)$", exc.path)
+        if m is None:
+            raise
+        where = "" if m.group(1) is None else "--" + m.group(1).replace("_", "-") + m.group(2)
+        raise InvalidValueError(f"{where}: {exc.detail}" if where else exc.detail) from None
+
+
+def print_options(func: Callable) -> Callable:
+    """``--print`` (the recipe as JSON, render nothing) and ``--print-map`` (the map)."""
+    func = click.option(
+        "--print-map",
+        "print_map",
+        is_flag=True,
+        help="Print the map as JSON (spherewarp.maps.map_from_json reads it) instead of rendering.",
+    )(func)
+    return click.option(
+        "--print",
+        "print_recipe",
+        is_flag=True,
+        help="Print the recipe of this render as JSON ('spherewarp render' replays it) "
+        "instead of rendering.",
+    )(func)
+
+
+def _json_value(value: Any, base: Path | None) -> Any:
+    """A step value as JSON: file names relative to ``base`` (the recipe's directory)."""
+    if isinstance(value, Path):
+        p = value.resolve()
+        if base is None:
+            return str(p)
+        try:  # inside the recipe's directory: relative, so the two move together
+            return p.relative_to(base.resolve()).as_posix()
+        except ValueError:
+            return str(p)
+    if isinstance(value, (list, tuple)):
+        return [_json_value(v, base) for v in value]
+    if isinstance(value, dict):
+        return {k: _json_value(v, base) for k, v in value.items() if v is not None}
+    return value
+
+
 def recipe_of(
     step: dict[str, Any],
     render: RenderOptions,
-    input: Path | None = None,
+    input: Path | list[Path] | None = None,
     top: dict[str, Any] | None = None,
+    base: Path | None = None,
 ) -> dict[str, Any]:
     """The recipe data of one step rendered with ``render``'s options (``top``: more
-    top-level fields, such as ``duration`` and ``loop``)."""
+    top-level fields, such as ``duration`` and ``loop``; ``input``: the input, or the
+    inputs of a split screen; ``base``: the directory file names are written relative to).
+    """
     options: dict[str, Any] = {
         "interp": render.interp,
         "supersample": render.supersample,
@@ -85,10 +143,12 @@ def recipe_of(
     if render.background is not None:
         options["background"] = render.background
     data: dict[str, Any] = {"spherewarp": 1}
-    if input is not None:
+    if isinstance(input, (list, tuple)):
+        data["inputs"] = [i.name for i in input]
+    elif input is not None:
         data["inputs"] = [input.name]
     data.update(top or {})
-    data["steps"] = [{k: {n: v for n, v in p.items() if v is not None} for k, p in step.items()}]
+    data["steps"] = [{k: _json_value(p, base)} for k, p in step.items()]
     view: dict[str, Any] = {}
     if render.size is not None:
         view["size"] = list(render.size)
@@ -110,7 +170,7 @@ def recipe_of(
 def saving_recipe(
     step: dict[str, Any],
     render: RenderOptions,
-    input: Path | None,
+    input: Path | list[Path] | None,
     path: Path | None,
     dry_run: bool,
     top: dict[str, Any] | None = None,
@@ -133,7 +193,6 @@ def saving_recipe(
         return
     from ..errors import InvalidValueError, OutputExistsError
     from ..io.atomic import write_text
-    from ..recipe import Recipe
     from ._files import job
 
     key = str(path.resolve())
@@ -146,7 +205,7 @@ def saving_recipe(
             f"expected a file name ending in .json, got {str(path)!r}",
             param_hint="'--save-recipe'",
         )
-    data = recipe_of(step, render, input, top)
+    data = recipe_of(step, render, input, top, base=p.resolve().parent)
     if earlier is not None:  # an earlier input of this batch wrote it: add this input
         if {**earlier, "inputs": None} != {**data, "inputs": None}:
             raise InvalidValueError(
@@ -155,7 +214,7 @@ def saving_recipe(
                 "input's recipe at a time"
             )
         data["inputs"] = earlier.get("inputs", []) + data.get("inputs", [])
-    text = Recipe.from_dict(data).dumps()
+    text = command_recipe(data, base=p.resolve().parent).dumps()
     if p.exists() and not render.overwrite and earlier is None:
         raise OutputExistsError(f"{str(p)!r} exists; pass --overwrite to replace it")
     yield dry_run
@@ -195,16 +254,77 @@ def _with_recipe_options(ctx: click.Context, render: RenderOptions, frame: Any) 
     return replace(render, **changes)
 
 
-def _render_frame(src: Any, frame: Any, render: RenderOptions, command: str) -> tuple[Any, Any]:
-    """The pixels of one frame and the GPano to write with them."""
-    from ..render import warp
+def print_recipe(
+    step: dict[str, Any],
+    render: RenderOptions,
+    input: Path | list[Path] | None,
+    top: dict[str, Any] | None = None,
+) -> None:
+    """``--print``: the recipe of ``step`` on stdout (validated; file names absolute)."""
+    click.echo(command_recipe(recipe_of(step, render, input, top)).dumps(), nl=False)
+
+
+def render_recipe(
+    step: dict[str, Any],
+    render: RenderOptions,
+    srcs: Any,
+    command: str,
+    top: dict[str, Any] | None = None,
+    t: float = 0.0,
+) -> tuple[Any, Any, Any]:
+    """Render ``step`` (one recipe step, as the command names it) through :class:`Recipe`,
+    as ``spherewarp render`` replays it: ``(pixels, gpano, frame)``."""
+    frame = command_recipe(recipe_of(step, render, None, top)).at(t)
+    out, gpano = _render_frame(srcs, frame, render, command)
+    return out, gpano, frame
+
+
+def _render_frame(srcs: Any, frame: Any, render: RenderOptions, command: str) -> tuple[Any, Any]:
+    """The pixels of one frame (from one input, or a list) and the GPano to write with them."""
     from .mobius_cmds import _output_gpano
 
-    out = warp(src.pixels, frame.map, **render.warp_kwargs(src.pixels))
+    srcs = list(srcs) if isinstance(srcs, (list, tuple)) else [srcs]
+    pixels = [s.pixels for s in srcs]
+    if frame.flat:
+        render.refuse_view(command)
+    out = frame.render_pixels(pixels, render.warp_kwargs(pixels[0]))
     gpano: Any = True  # after a branched map no pose holds, as with those commands
-    if frame.pose is not None:
-        gpano = _output_gpano(src, out.shape, frame.pose, command)
+    if frame.flat:
+        gpano = False
+    elif frame.pose is not None:
+        gpano = _output_gpano(srcs[0], out.shape, frame.pose, command)
     return out, gpano
+
+
+def _groups(recipe: Any, name: Path, inputs: tuple[Path, ...]) -> list[tuple[Path, ...]] | None:
+    """The inputs as one group of a several-input recipe, or None (one render an input)."""
+    n = recipe.n_inputs
+    if n == 1:
+        return None
+    if len(inputs) != n:
+        from ..errors import InvalidValueError
+
+        raise InvalidValueError(
+            f"{name}: the recipe renders from {n} inputs ({recipe.steps[0].effect}), got "
+            f"{len(inputs)} (give INPUT1 ... INPUT{n})"
+        )
+    return [inputs]
+
+
+def _load_all(inputs: tuple[Path, ...], render: RenderOptions) -> list[Any]:
+    from ._common import load_input
+
+    return [load_input(p, render, f"input {k + 1}") for k, p in enumerate(inputs)]
+
+
+def _inputs_argument(func: Callable) -> Callable:
+    return click.argument(
+        "inputs",
+        nargs=-1,
+        required=True,
+        type=click.Path(dir_okay=False, path_type=Path),
+        metavar="INPUT...",
+    )(func)
 
 
 @click.command(
@@ -215,7 +335,7 @@ def _render_frame(src: Any, frame: Any, render: RenderOptions, command: str) -> 
     )
 )
 @click.argument("recipe", type=click.Path(dir_okay=False, path_type=Path), metavar="R.json")
-@input_argument
+@_inputs_argument
 @click.option(
     "--time",
     "time",
@@ -225,24 +345,43 @@ def _render_frame(src: Any, frame: Any, render: RenderOptions, command: str) -> 
     help="The time in seconds at which to evaluate the recipe's tracks.",
 )
 @render_options
-def render(input: Path, render: RenderOptions, recipe: Path, time: float) -> None:
+def render(inputs: tuple[Path, ...], render: RenderOptions, recipe: Path, time: float) -> None:
     """Render a recipe (R.json, as --save-recipe writes it) on INPUT.
 
     The recipe's options (--interp, --supersample, --antialias, --size,
-    --background) apply unless given here.
+    --background) apply unless given here. A recipe made from several inputs (a
+    split screen, Droste's --inside images) takes them all, in order, as one render;
+    otherwise each INPUT is rendered in turn.
     """
     from ..recipe import Recipe
-    from ._common import load_input, output_path, save_output
+    from ._common import run_inputs
+    from ._files import Job, job, new_job
+
+    job().reads(recipe, "recipe")
+    r = Recipe.load(recipe)
+    frame = r.at(time)
+    render = _with_recipe_options(click.get_current_context(), render, frame)
+    groups = _groups(r, recipe, inputs)
+    if groups is None:
+        run_inputs(_render_one, inputs, {"render": render, "recipe": recipe, "frame": frame})
+        return
+    new_job(Job(reads=((recipe, "recipe"),)))
+    _render_one(groups[0], render, recipe, frame)
+
+
+def _render_one(input: Any, render: RenderOptions, recipe: Path, frame: Any) -> None:
+    from ._common import output_path, save_output
     from ._files import job
     from .mobius_cmds import check_output_suffix
 
+    group = tuple(input) if isinstance(input, tuple) else (input,)
     job().reads(recipe, "recipe")
-    frame = Recipe.load(recipe).at(time)
-    render = _with_recipe_options(click.get_current_context(), render, frame)
-    check_output_suffix(output_path(render, input, "render"))  # refuse a bad output early
-    src = load_input(input, render)
-    out, gpano = _render_frame(src, frame, render, "render")
-    save_output(out, src, render, command="render", gpano=gpano)
+    for k, p in enumerate(group):
+        job().reads(p, f"input {k + 1}" if len(group) > 1 else "input")
+    check_output_suffix(output_path(render, group[0], "render"))  # refuse a bad output early
+    srcs = _load_all(group, render)
+    out, gpano = _render_frame(srcs, frame, render, "render")
+    save_output(out, srcs[0], render, command="render", gpano=gpano)
 
 
 FPS = RealType("frames per second", "24 or 29.97", metavar="F", gt=0, le=1000)
@@ -259,7 +398,7 @@ MAX_FRAMES = 100000
     )
 )
 @click.argument("recipe", type=click.Path(dir_okay=False, path_type=Path), metavar="R.json")
-@input_argument
+@_inputs_argument
 @click.option("--fps", type=FPS, required=True, help="Frames per second.")
 @click.option(
     "--duration",
@@ -269,7 +408,7 @@ MAX_FRAMES = 100000
 @encoding_options
 @render_options
 def animate(
-    input: Path,
+    inputs: tuple[Path, ...],
     render: RenderOptions,
     recipe: Path,
     fps: float,
@@ -289,17 +428,44 @@ def animate(
     equirectangular one carries the 360° metadata. The recipe's options apply
     unless given here.
     """
+    from ..recipe import Recipe
+    from ._common import run_inputs
+    from ._files import Job, job, new_job
+
+    job().reads(recipe, "recipe")
+    r = Recipe.load(recipe)
+    groups = _groups(r, recipe, inputs)
+    kwargs = {"render": render, "recipe": recipe, "r": r, "fps": fps, "duration": duration}
+    kwargs["encoding"] = encoding
+    if groups is None:
+        run_inputs(_animate_one, inputs, kwargs)
+        return
+    new_job(Job(reads=((recipe, "recipe"),)))
+    _animate_one(groups[0], **kwargs)
+
+
+def _animate_one(
+    input: Any,
+    render: RenderOptions,
+    recipe: Path,
+    r: Any,
+    fps: float,
+    duration: float | None,
+    encoding: dict[str, Any],
+) -> None:
     from dataclasses import replace
 
     from ..errors import InvalidValueError
-    from ..recipe import Recipe
-    from ._common import load_input, output_name, output_path, save_output
+    from ._common import output_name, output_path, save_output
     from ._files import job
     from .droste_cmds import frame_paths
     from .mobius_cmds import check_output_suffix
 
+    group = tuple(input) if isinstance(input, tuple) else (input,)
+    input = group[0]
     job().reads(recipe, "recipe")
-    r = Recipe.load(recipe)
+    for k, p in enumerate(group):
+        job().reads(p, f"input {k + 1}" if len(group) > 1 else "input")
     if duration is None and r.duration is None:
         raise click.UsageError(f"{recipe} has no duration; give --duration S")
     seconds = r.duration if duration is None else duration
@@ -312,7 +478,7 @@ def animate(
     ctx = click.get_current_context()
     render = _with_recipe_options(ctx, render, r.at(0.0))
     if is_video_output(render.output):
-        return _animate_video(input, render, r, times, fps, encoding)
+        return _animate_video(group, render, r, times, fps, encoding)
     if any(v is not None for v in encoding.values()):
         given = next(k for k, v in encoding.items() if v is not None).replace("_", "-")
         raise click.BadParameter("goes with a video -o (OUT.mp4 ...)", param_hint=f"--{given}")
@@ -321,16 +487,16 @@ def animate(
     per_frame = [replace(render, output=p, output_dir=False) for p in paths]
     for one in per_frame:  # refuse inputs, existing files and bad names before any work
         check_output_suffix(output_path(one, input, "animate", given=str(pattern)))
-    src = load_input(input, render)
+    srcs = _load_all(group, render)
     for p in {p.parent for p in paths}:
         p.mkdir(parents=True, exist_ok=True)
     for t, one in zip(times, per_frame, strict=True):
-        out, gpano = _render_frame(src, r.at(t), one, "animate")
-        save_output(out, src, one, command="animate", gpano=gpano)
+        out, gpano = _render_frame(srcs, r.at(t), one, "animate")
+        save_output(out, srcs[0], one, command="animate", gpano=gpano)
 
 
 def _animate_video(
-    input: Path,
+    group: tuple[Path, ...],
     render: RenderOptions,
     r: Any,
     times: list[float],
@@ -338,7 +504,7 @@ def _animate_video(
     encoding: dict[str, Any],
 ) -> None:
     """``animate ... -o OUT.mp4``: the frames encoded into one video."""
-    from ._common import convert_for_output, load_input
+    from ._common import convert_for_output
     from ._files import job
     from ._video_out import animate_video
 
@@ -349,7 +515,7 @@ def _animate_video(
         from ..errors import OutputExistsError
 
         raise OutputExistsError(f"{str(render.output)!r} exists; pass --overwrite to replace it")
-    src = load_input(input, render)
+    srcs = _load_all(group, render)
 
     def render_frame(src: Any, frame: Any, one: RenderOptions) -> Any:
         out, _ = _render_frame(src, frame, one, "animate")
@@ -357,4 +523,4 @@ def _animate_video(
             out = convert_for_output(out, Path("frame.png"), one)
         return out
 
-    animate_video(src, render, r, times, fps, encoding, render_frame)
+    animate_video(srcs, render, r, times, fps, encoding, render_frame)

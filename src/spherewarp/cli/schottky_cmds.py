@@ -17,6 +17,7 @@ from typing import Any
 import click
 
 from ._common import ColorType, RealType, RenderOptions, example, input_argument, render_options
+from .recipe_cmds import print_options, recipe_options, render_recipe, saving_recipe
 
 __all__ = ["schottky"]
 
@@ -63,29 +64,10 @@ class GeneratorType(click.ParamType):
 
 
 def _output_width(kwargs: dict[str, Any], in_shape: tuple[int, ...]) -> int:
-    """The width of an equirectangular output with pixels as fine as the output's finest.
+    """The width a Schottky map is sized for (:func:`spherewarp.recipe.recipe.output_width`)."""
+    from ..recipe.recipe import output_width
 
-    For a grid, from the angle between neighbouring pixel centres (the larger of the
-    two axes', at the smallest over a lattice of pixels).
-    """
-    grid = kwargs.get("grid")
-    if grid is None:
-        shape = kwargs.get("output_shape") or in_shape[:2]
-        return int(shape[1])
-    import numpy as np
-
-    h, w = grid.shape
-    y, x = np.meshgrid(np.linspace(0.5, h - 1.5, 17), np.linspace(0.5, w - 1.5, 17))
-    c, ok = grid.directions_at(x, y)
-    steps = []
-    for dx, dy in ((1.0, 0.0), (0.0, 1.0)):
-        n, ok2 = grid.directions_at(x, y, dx, dy)
-        steps.append(np.arccos(np.clip((c * n).sum(-1), -1.0, 1.0)))
-        ok = ok & ok2
-    step = np.maximum(*steps)[ok & (np.maximum(*steps) > 0)]
-    if step.size == 0:
-        return max(h, w)
-    return int(min(2**20, math.ceil(2 * math.pi / float(step.min()))))
+    return output_width(kwargs, in_shape)
 
 
 GENERATOR = GeneratorType()
@@ -167,7 +149,8 @@ DEGREES = RealType("degrees", "30", metavar="DEG")
     "zoom factor F > 1 (X zooms by F about the disk's centre, fixing its antipode: a "
     "Droste portal there).",
 )
-@click.option("--print", "print_map", is_flag=True, help="Print the map as JSON, render nothing.")
+@print_options
+@recipe_options
 @render_options
 def schottky(
     input: Path,
@@ -180,7 +163,10 @@ def schottky(
     depth: int | None,
     phase: float,
     frames: int | None,
-    print_map: bool,
+    print_recipe: bool = False,
+    print_map: bool = False,
+    save_recipe: Path | None = None,
+    dry_run: bool = False,
 ) -> None:
     """Schottky group: each disk shows the whole picture again, in each other disk, forever.
 
@@ -191,12 +177,13 @@ def schottky(
     from ._common import load_input, output_name, output_path, save_output
     from .droste_cmds import _check_suffix, frame_paths
 
+    printing = print_map or print_recipe
     check_generators(generators, twists, mask, targets, regions)
-    if not print_map and mask is not None:
+    if mask is not None:
         from ._files import job
 
         job().reads(mask, "--mask image")
-    if not print_map:  # every file written, checked before any work
+    if not (printing or dry_run):  # every file written, checked before any work
         if frames is None:
             _check_suffix(output_path(render, input, "schottky"))
         else:
@@ -206,30 +193,41 @@ def schottky(
                 one = replace(render, output=p, output_dir=False)
                 _check_suffix(output_path(one, input, "schottky", given=str(pattern)))
 
-    s, n_gens = schottky_map(
+    s, n_gens, step = _schottky_parts(
         generators, twists, mask, targets, regions, depth, phase, render.max_pixels
     )
     if print_map:
         click.echo(s.to_json())
         return
+    if not step["generators"]:
+        del step["generators"]
+    top: dict[str, Any] = {}
+    if frames is not None:  # a loop: 'spherewarp animate R.json IN --fps FRAMES' replays it
+        step["phase"] = {"keyframes": [[0, phase], [1, phase + 1]]}
+        top = {"duration": 1, "loop": True}
+    if print_recipe:
+        from .recipe_cmds import print_recipe as show
 
-    from ..render import warp
-
-    src_img = load_input(input, render)
-    kwargs = render.warp_kwargs(src_img.pixels)
-    s = s.for_output(_output_width(kwargs, src_img.pixels.shape))
-    if frames is None:
-        click.echo(f"schottky: {n_gens} generator(s), depth {s.depth}")
-        save_output(warp(src_img.pixels, s, **kwargs), src_img, render, command="schottky")
+        show({"schottky": step}, render, input, top)
         return
-    from ..effects.droste import animation_phases
-
-    for p in {p.parent for p in paths}:
-        p.mkdir(parents=True, exist_ok=True)
-    click.echo(f"schottky: {n_gens} generator(s), depth {s.depth}, {frames} frames")
-    for p, t in zip(paths, animation_phases(frames, phase), strict=True):
-        r = replace(render, output=p, output_dir=False)
-        save_output(warp(src_img.pixels, s.with_phase(t), **kwargs), src_img, r, command="schottky")
+    with saving_recipe({"schottky": step}, render, input, save_recipe, dry_run, top) as dry:
+        if dry:
+            return
+        src_img = load_input(input, render)
+        kwargs = render.warp_kwargs(src_img.pixels)
+        depth_shown = s.for_output(_output_width(kwargs, src_img.pixels.shape)).depth
+        if frames is None:
+            click.echo(f"schottky: {n_gens} generator(s), depth {depth_shown}")
+            out = render_recipe({"schottky": step}, render, src_img, "schottky")[0]
+            save_output(out, src_img, render, command="schottky")
+            return
+        for p in {p.parent for p in paths}:
+            p.mkdir(parents=True, exist_ok=True)
+        click.echo(f"schottky: {n_gens} generator(s), depth {depth_shown}, {frames} frames")
+        for k, p in enumerate(paths):  # frame k at t = k / N s of the loop recipe
+            r = replace(render, output=p, output_dir=False)
+            out = render_recipe({"schottky": step}, r, src_img, "schottky", top, k / frames)[0]
+            save_output(out, src_img, r, command="schottky")
 
 
 def check_generators(
@@ -272,6 +270,23 @@ def schottky_map(
 ) -> tuple[Any, int]:
     """The Schottky map of ``schottky``'s options (checked by :func:`check_generators`) and
     its number of generators; not yet fitted to an output width (``for_output``)."""
+    s, n_gens, _ = _schottky_parts(
+        generators, twists, mask, targets, regions, depth, phase, max_pixels
+    )
+    return s, n_gens
+
+
+def _schottky_parts(
+    generators: tuple[tuple[str, Any, Any], ...],
+    twists: tuple[float, ...],
+    mask: Path | None,
+    targets: tuple[tuple[str, str], ...],
+    regions: str,
+    depth: int | None,
+    phase: float,
+    max_pixels: int | None,
+) -> tuple[Any, int, dict[str, Any]]:
+    """The map, its number of generators and its recipe step (the options, by name)."""
     from ..errors import InvalidValueError
     from ..maps.mobius import Mobius
     from ..maps.schottky import Cap, Schottky, generator_between
@@ -280,7 +295,15 @@ def schottky_map(
     tw = list(twists) * n_pairs if len(twists) == 1 else list(twists) or [0.0] * n_pairs
     gens = []
     k = 0
+    step: dict[str, Any] = {"generators": [], "depth": depth, "phase": phase}
     for i, (form, disk, other) in enumerate(generators):
+        if form == "disks":
+            g = {"disk": list(disk), "to": list(other)}
+            if twists:
+                g["twist"] = tw[k]
+        else:
+            g = {"disk": list(disk), "matrix": [[c.real, c.imag] for c in other]}
+        step["generators"].append(g)
         try:
             src = Cap(*disk)
             if form == "disks":
@@ -299,6 +322,7 @@ def schottky_map(
 
         pixels = read_image(mask, max_pixels=max_pixels).pixels
         colours = []
+        step.update(mask=mask, targets=[], regions=regions.lower())
         for colour, where in targets:
             try:
                 colours.append(parse_color(colour))
@@ -307,11 +331,13 @@ def schottky_map(
                 cap = cap_from_mask(pixels, colours[-1], inside=regions.lower() == "exact")
                 if "," in where:
                     m = generator_between(cap, Cap(*_disk(where)))
+                    step["targets"].append({"colour": colour, "to": list(_disk(where))})
                 else:
                     f = float(where)
                     if not (math.isfinite(f) and f > 1):
                         raise ValueError(f"expected a zoom factor > 1 or LON,LAT,R, got {where!r}")
                     m = Mobius.zoom((cap.lon, cap.lat), f)
+                    step["targets"].append({"colour": colour, "zoom": f})
             except (InvalidValueError, ValueError) as exc:
                 msg = str(exc)
                 if msg.startswith("could not convert"):
@@ -331,4 +357,4 @@ def schottky_map(
         except InvalidValueError as exc:
             hint = " (a larger zoom, or --regions round)" if "disjoint" in str(exc) else ""
             raise InvalidValueError(f"--mask/--target: {exc}{hint}") from None
-    return s, len(gens)
+    return s, len(gens), step

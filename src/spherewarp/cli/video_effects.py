@@ -96,13 +96,19 @@ def looped(data: dict[str, Any], effect: str, seconds: float) -> dict[str, Any]:
     return {**data, "duration": seconds, "loop": True, "steps": [{effect: step}]}
 
 
+#: recipe fields of the generated commands that video does not take yet
+NOT_ON_VIDEO = frozenset({"view", "periods", "images", "inside"})
+
+
 def _generate(name: str, target: str) -> click.Command:
     from ..recipe.effects import EFFECTS
 
     still = _still(target)
     effect = EFFECTS[name]
-    fields = set(effect.params)
-    params = [p for p in still.params if p.name in fields]  # the still command's own options
+    # the still command's own options, less those that draw a picture of their own (Droste's
+    # log views and its --inside image: a recipe's only step, not yet on video)
+    fields = set(effect.params) - NOT_ON_VIDEO
+    params = [p for p in still.params if p.name in fields]
     timed = "phase" in fields
 
     def callback(

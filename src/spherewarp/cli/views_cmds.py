@@ -21,6 +21,7 @@ from ._common import (
     render_options,
     save_output,
 )
+from .recipe_cmds import print_options, recipe_options, saving_recipe
 
 
 @click.command(
@@ -60,6 +61,8 @@ from ._common import (
     default=0.0,
     help="Roll of the grid, DEG (as ffmpeg v360's roll).",
 )
+@print_options
+@recipe_options
 @render_options
 def project(
     input: Path,
@@ -68,6 +71,10 @@ def project(
     from_: str | None,
     look_at: tuple[float, float] | None,
     roll: float,
+    print_recipe: bool = False,
+    print_map: bool = False,
+    save_recipe: Path | None = None,
+    dry_run: bool = False,
 ) -> None:
     """Reproject the panorama INPUT into another grid (--to), or back (--from).
 
@@ -90,20 +97,37 @@ def project(
         view_at=look_at if look_at is not None else render.view_at,
         view_roll=roll + render.view_roll,
     )
-    if to is not None:
-        _project_to(input, replace(render, projection=to.lower()))
-    else:
+    if from_ is not None and (save_recipe or dry_run or print_recipe or print_map):
+        raise click.UsageError(
+            "--from takes a picture back to the sphere: it has no recipe or map (a recipe "
+            "renders panoramas; --to has one)"
+        )
+    if to is None:
         _project_from(input, render, from_.lower())
+        return
+    render = replace(render, projection=to.lower())
+    if print_map:
+        from ..maps import Mobius
+
+        click.echo(Mobius.identity().to_json())  # a reprojection moves nothing
+        return
+    if print_recipe:  # no steps: the view alone
+        from .recipe_cmds import print_recipe as show
+
+        show({}, render, input)
+        return
+    with saving_recipe({}, render, input, save_recipe, dry_run) as dry:
+        if not dry:
+            _project_to(input, render)
 
 
 def _project_to(input: Path, render: RenderOptions) -> None:
-    from ..maps import Mobius
-    from ..render import warp
     from ._common import load_input
+    from .recipe_cmds import render_recipe
 
     src = load_input(input, render)
     output_path(render, input, render.projection or "project")  # refuse a bad -o first
-    out = warp(src.pixels, Mobius.identity(), **render.warp_kwargs(src.pixels))
+    out = render_recipe({}, render, src, "project")[0]
     save_output(out, src, render, command=render.projection or "project")
 
 

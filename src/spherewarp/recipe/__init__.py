@@ -28,7 +28,9 @@ Fields
     The format version (1); a newer version is refused.
 ``inputs``
     The file names the recipe was made from (for the record; ``render`` takes
-    the panoramas to apply it to).
+    the panoramas to apply it to). A step that renders from several images (a
+    ``splitscreen``, a ``droste`` with ``images`` > 1) takes that many, in order:
+    ``Recipe.render([a, b])``, ``spherewarp render R.json A B``.
 ``steps``
     A list of ``{EFFECT: {PARAMETER: value, ...}}``, applied in order; see
     :data:`~spherewarp.recipe.effects.EFFECTS`. Parameters are named as the
@@ -49,7 +51,15 @@ speed: rotations about one axis form a one-parameter group, ``R(a) = R(1)^a``.
 A zoom's ``factor`` grows at constant speed (``M^t``) on the ``geometric``
 easing, which interpolates ``log(factor)``; the ``linear`` easing interpolates
 the factor itself (1 to 4 passes 2.5 half-way). A Droste loop is a ``phase``
-track from 0 to 1 over the duration with ``loop: true``.
+track from 0 to 1 over the duration with ``loop: true``; so is a Schottky loop.
+
+Pictures of their own
+---------------------
+A ``splitscreen``, a ``droste`` step with several ``images`` or a ``view`` of
+``log``/``log-output``, ``peirce`` and ``torus`` render their own picture (the
+effect's ``render``), so such a step is the recipe's only step; the flat ones
+(log plane, Peirce square, torus) take no output grid and carry no GPano. File
+names (a ``mask``) are read relative to the recipe file's directory.
 """
 
 from __future__ import annotations

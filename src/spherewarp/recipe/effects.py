@@ -25,7 +25,9 @@ from typing import Any
 from .errors import RecipeError
 from .params import (
     Choice,
+    File,
     Flag,
+    Generators,
     Integer,
     Matrix,
     Point,
@@ -33,6 +35,7 @@ from .params import (
     Real,
     RealOrAuto,
     Spec,
+    Targets,
     Text,
 )
 
@@ -145,6 +148,15 @@ class Effect:
     #: the turn of the sphere a recorded camera pose must follow (as the command's own GPano
     #: handling), or None for an effect after which no pose holds
     pose: Callable[[dict[str, Any]], Any] | None = None
+    #: an effect that renders its own picture (several inputs blended, a flat panel):
+    #: ``render(images, values, map, warp_kwargs)``; such a step is the recipe's only step
+    render: Callable[[list[Any], dict[str, Any], Any, dict[str, Any]], Any] | None = None
+    #: whether a step with these values renders its own picture (then it is the only step)
+    whole: Callable[[dict[str, Any]], bool] = field(default=lambda values: True)
+    #: how many input images a step needs (``values -> n``)
+    inputs: Callable[[dict[str, Any]], int] = field(default=lambda values: 1)
+    #: whether the picture is flat (no GPano; no output grid), from the values
+    flat: Callable[[dict[str, Any]], bool] = field(default=lambda values: False)
 
 
 def _complex(pair: tuple[float, float]) -> complex:
@@ -228,7 +240,9 @@ def _build_lattes(v: dict[str, Any]) -> Any:
 
 
 def _check_droste(given: set[str], path: str) -> None:
-    _one_of(given, path, ("frame",), ("inner_radius",))
+    _one_of(given, path, ("frame",), ("inner_radius",), ("mask",))
+    if "periods" in given and "view" not in given:
+        raise RecipeError(path, "'periods' goes with 'view': 'log' or 'log-output'")
     if "inner_radius" in given and "center" not in given:
         raise RecipeError(path, "'inner_radius' needs 'center'")
     if given & {"strands", "periodicity"} and "twist" not in given:
@@ -240,6 +254,8 @@ def _build_droste(v: dict[str, Any]) -> Any:
 
     if v["frame"] is not None:
         hole = dr.hole_from_corners(list(v["frame"]), v["center"], far=v["far"])
+    elif v["mask"] is not None:
+        hole = dr.hole_from_mask(read_mask(v["mask"]), v["center"], far=v["far"])
     else:
         hole = dr.hole_from_radius(v["center"], v["inner_radius"], far=v["far"])
     return dr.droste_map(
@@ -249,9 +265,242 @@ def _build_droste(v: dict[str, Any]) -> Any:
         strands=v["strands"],
         periodicity=v["periodicity"],
         phase=v["phase"],
+        n_images=v["images"],
         border=v["border"],
         margin=v["margin"],
     )
+
+
+def _render_droste_log(images: list[Any], v: dict[str, Any], m: Any, kw: dict[str, Any]) -> Any:
+    """The log plane of a Droste step (``view``: 'log' or 'log-output'), or the image."""
+    from ..effects import droste as dr
+    from ..render import warp
+
+    if v["view"] == "equirect":
+        return warp(images if len(images) > 1 else images[0], m, **kw)
+    shape = kw.get("output_shape")
+    return dr.log_view(
+        images,
+        m,
+        height=None if shape is None else int(shape[0]),
+        periods=v["periods"],
+        plane="input" if v["view"] == "log" else "output",
+        interp=kw.get("interp", "bilinear"),
+        supersample=kw.get("supersample", 1),
+    )
+
+
+#: mask images read by recipes: (path, size, mtime) -> pixels
+_MASKS: dict[tuple[str, int, int], Any] = {}
+
+
+def read_mask(path: Any) -> Any:
+    """The pixels of a mask image a recipe names (read once per process and file version)."""
+    import os
+
+    from ..io import read_image
+
+    st = os.stat(path)
+    key = (str(path), st.st_size, st.st_mtime_ns)
+    if key not in _MASKS:
+        if len(_MASKS) > 8:
+            _MASKS.clear()
+        _MASKS[key] = read_image(path).pixels
+    return _MASKS[key]
+
+
+# -- schottky ---------------------------------------------------------------------------------
+def _check_schottky(given: set[str], path: str) -> None:
+    if "mask" in given and "targets" not in given:
+        raise RecipeError(f"{path}.targets", "missing: 'mask' needs a target for each colour")
+    if "targets" in given and "mask" not in given:
+        raise RecipeError(f"{path}.mask", "missing: 'targets' go with a 'mask'")
+    if not given & {"generators", "mask"}:
+        raise RecipeError(path, "expected 'generators' or 'mask' with 'targets'")
+    if "regions" in given and "mask" not in given:
+        raise RecipeError(f"{path}.regions", "'regions' goes with 'mask'")
+
+
+def _build_schottky(v: dict[str, Any]) -> Any:
+    """The Schottky map of a step (generators by disks or matrices, a mask with targets)."""
+    import math
+
+    from ..errors import InvalidValueError
+    from ..maps.mobius import Mobius
+    from ..maps.schottky import Cap, MaskRegions, Schottky, cap_from_mask, generator_between
+
+    gens = []
+    for i, g in enumerate(v["generators"] or ()):
+        try:
+            src = Cap(*g["disk"])
+            if "to" in g:
+                m = generator_between(src, Cap(*g["to"]), g["twist"])
+            else:
+                a, b, c, d = (_complex(e) for e in g["matrix"])
+                m = Mobius([[a, b], [c, d]])
+        except InvalidValueError as exc:
+            raise RecipeError(f"generators[{i}]", str(exc)) from None
+        gens.append((src, m))
+    exact = v["regions"] == "exact"
+    if v["mask"] is not None:
+        from ..io.tonemap import parse_color
+
+        if v["generators"] and exact:
+            raise RecipeError(
+                "regions", "'exact' (the default with a mask) takes every disk from the mask: "
+                "leave out 'generators', or give 'regions': 'round'"
+            )  # fmt: skip
+        pixels = read_mask(v["mask"])
+        colours = []
+        for i, tg in enumerate(v["targets"]):
+            try:
+                colours.append(parse_color(tg["colour"]))
+                cap = cap_from_mask(pixels, colours[-1], inside=exact)
+                if "to" in tg:
+                    m = generator_between(cap, Cap(*tg["to"]))
+                else:
+                    if not math.isfinite(tg["zoom"]):  # pragma: no cover - checked
+                        raise InvalidValueError("expected a zoom factor > 1")
+                    m = Mobius.zoom((cap.lon, cap.lat), tg["zoom"])
+            except InvalidValueError as exc:
+                raise RecipeError(f"targets[{i}]", str(exc)) from None
+            gens.append((cap, m))
+    s = Schottky(gens, depth=v["depth"], phase=v["phase"])
+    if v["mask"] is not None and exact:
+        s = s.with_mask_regions(MaskRegions(pixels, colours, path=str(v["mask"])))
+    return s
+
+
+# -- splitscreen ------------------------------------------------------------------------------
+def _check_splitscreen(given: set[str], path: str) -> None:
+    pass
+
+
+def _build_splitscreen(v: dict[str, Any]) -> Any:
+    from ..errors import InvalidValueError
+    from ..maps.branched import ExpMap, Power
+
+    if v["n"] is not None and v["cover"] != "power":
+        raise RecipeError("n", "applies to 'cover': 'power' only")
+    if v["n"] is not None and v["n"] % v["images"]:
+        raise RecipeError("n", f"expected a multiple of 'images' ({v['images']}), got {v['n']}")
+    bp = v["branch_points"]
+    try:
+        if v["cover"] == "exp":
+            cover = ExpMap(v["lam"], branch_points=bp)
+        else:
+            cover = Power(v["n"] or v["images"], branch_points=bp)
+    except InvalidValueError as exc:
+        raise RecipeError("", str(exc)) from None
+    return with_look_at(cover, v["look_at"])
+
+
+def splitscreen_seam(images: list[Any], v: dict[str, Any], force: bool = False) -> float:
+    """The seam longitude of a split-screen step: its own, or the auto one for ``images``."""
+    from ..effects import splitscreen as ss
+
+    if v["seam"] != "auto":
+        return float(v["seam"])
+    return float(
+        ss.auto_seam(images, feather_deg=v["feather"], **_splitscreen_cover(v), force=force)
+    )
+
+
+def _splitscreen_cover(v: dict[str, Any]) -> dict[str, Any]:
+    return {"cover": v["cover"], "n": v["n"], "lam": v["lam"], "branch_points": v["branch_points"]}
+
+
+def _render_splitscreen(images: list[Any], v: dict[str, Any], m: Any, kw: dict[str, Any]) -> Any:
+    from ..effects import splitscreen as ss
+
+    kw = dict(kw)
+    force = bool(kw.pop("force", False))
+    look = v["look_at"]
+    view = None
+    if look is not None:
+        from ..maps.mobius import Mobius
+
+        view = Mobius.from_yaw_pitch_roll(yaw=look[0], pitch=look[1])
+    return ss.splitscreen(
+        images,
+        seam=splitscreen_seam(images, v, force),
+        feather_deg=v["feather"],
+        view=view,
+        **_splitscreen_cover(v),
+        force=force,
+        **kw,
+    )
+
+
+# -- peirce and torus: pictures of their own ----------------------------------------------------
+def _build_none(v: dict[str, Any]) -> Any:
+    return None
+
+
+def _render_peirce(images: list[Any], v: dict[str, Any], m: Any, kw: dict[str, Any]) -> Any:
+    from ..grids.peirce import render_peirce
+
+    shape = kw.get("output_shape")
+    return render_peirce(
+        images[0],
+        None if shape is None else int(shape[1]),
+        lon0=v["lon0"],
+        interp=kw.get("interp", "bilinear"),
+        supersample=kw.get("supersample", 1),
+        force=bool(kw.get("force", False)),
+        progress=kw.get("progress"),
+    )
+
+
+def _build_torus(v: dict[str, Any]) -> Any:
+    from ..effects.torus import parse_cells
+    from ..errors import InvalidValueError
+
+    try:
+        parse_cells(f"{v['cells'][0]}x{v['cells'][1]}")
+    except InvalidValueError as exc:
+        raise RecipeError("cells", str(exc)) from None
+    return None
+
+
+def _render_torus(images: list[Any], v: dict[str, Any], m: Any, kw: dict[str, Any]) -> Any:
+    from ..effects.torus import render_torus
+
+    shape = kw.get("output_shape")
+    return render_torus(
+        images[0],
+        v["lattice"],
+        cells=tuple(v["cells"]),
+        width=None if shape is None else int(shape[1]),
+        interp=kw.get("interp", "bilinear"),
+        supersample=kw.get("supersample", 1),
+        force=bool(kw.get("force", False)),
+        progress=kw.get("progress"),
+    )
+
+
+class _Cells(Spec):
+    """``[CX, CY]``: cells across and down."""
+
+    expected = "[cells across, cells down], integers from 1 to 64"
+    _n = Integer(ge=1, le=64)
+
+    def parse_plain(self, value: Any, path: str) -> tuple[int, int]:
+        if not isinstance(value, list) or len(value) != 2:
+            raise self.fail(value, path)
+        return (self._n.parse(value[0], f"{path}[0]"), self._n.parse(value[1], f"{path}[1]"))
+
+
+class _Seam(Real):
+    """'auto' or a longitude."""
+
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.expected = "'auto' or a longitude in degrees"
+        self.trackable = False
+
+    def parse(self, value: Any, path: str) -> Any:
+        return "auto" if value == "auto" else self.parse_plain(value, path)
 
 
 _ANGLE = Real(help="degrees")
@@ -356,10 +605,74 @@ EFFECTS: dict[str, Effect] = {
                 "twist": Flag(),
                 "strands": Integer(default=1),
                 "periodicity": Integer(ge=0, le=1000, default=1),
-                "phase": Real(default=0.0),
+                "phase": Real(default=0.0, help="zoom phase: 0 and 1 give the same image"),
+                "mask": File(help="a mask image, white = the hole inside the frame"),
+                "images": Integer(
+                    ge=1,
+                    le=64,
+                    default=1,
+                    help="how many inputs the copies cycle through (INPUT, then --inside ones)",
+                ),
+                "view": Choice(["equirect", "log", "log-output"], default="equirect"),
+                "periods": Real(ge=0.1, le=100, default=3.0),
             },
             _build_droste,
             _check_droste,
+            render=_render_droste_log,
+            whole=lambda v: v["view"] != "equirect" or v["images"] > 1,
+            inputs=lambda v: v["images"],
+            flat=lambda v: v["view"] != "equirect",
+        ),
+        Effect(
+            "schottky",
+            "a Schottky group: each disk shows the whole picture again, forever",
+            {
+                "generators": Generators(),
+                "mask": File(help="one colour per disk D_x"),
+                "targets": Targets(),
+                "regions": Choice(["exact", "round"], default="exact"),
+                "depth": Integer(ge=1, le=10000),
+                "phase": Real(default=0.0, help="zoom phase through the first generator"),
+            },
+            _build_schottky,
+            _check_schottky,
+        ),
+        Effect(
+            "splitscreen",
+            "several panoramas on the sheets of a branched cover",
+            {
+                "images": Integer(ge=2, le=64, default=2, help="how many inputs it combines"),
+                "cover": Choice(["power", "exp"], default="power"),
+                "n": Integer(ge=1, le=1000),
+                "lam": Real(gt=0, default=4.0),
+                "branch_points": _BRANCH_POINTS,
+                "seam": _Seam(default="auto"),
+                "feather": Real(ge=0, le=180, default=10.0),
+                "look_at": _LOOK_AT,
+            },
+            _build_splitscreen,
+            _check_splitscreen,
+            render=_render_splitscreen,
+            inputs=lambda v: v["images"],
+        ),
+        Effect(
+            "peirce",
+            "Peirce's quincuncial projection: the whole sphere in a square (a flat picture)",
+            {"lon0": Real(default=0.0, help="central meridian, degrees")},
+            _build_none,
+            render=_render_peirce,
+            flat=lambda v: True,
+        ),
+        Effect(
+            "torus",
+            "the toroidal image: the panorama pulled back to the torus (a flat picture)",
+            {
+                "lattice": Choice(["square", "hex"], default="square"),
+                "cells": _Cells(default=(1, 1)),
+            },
+            _build_torus,
+            render=_render_torus,
+            flat=lambda v: True,
         ),
     )
 }

@@ -9,9 +9,13 @@ path and what was expected.
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import difflib
 import math
-from collections.abc import Sequence
+import os
+from collections.abc import Iterator, Sequence
+from pathlib import Path
 from typing import Any
 
 from .errors import RecipeError
@@ -29,6 +33,11 @@ __all__ = [
     "ComplexNumber",
     "Matrix",
     "RealOrAuto",
+    "File",
+    "Disk",
+    "Generators",
+    "Targets",
+    "base_dir",
     "describe",
     "suggest",
 ]
@@ -327,3 +336,129 @@ class RealOrAuto(Real):
         if value == "auto":
             return "auto"
         return super().parse(value, path)
+
+
+#: the directory a recipe's relative file names are read from (its own, or the cwd)
+_BASE: contextvars.ContextVar[Path | None] = contextvars.ContextVar("recipe_base", default=None)
+
+
+@contextlib.contextmanager
+def base_dir(path: str | os.PathLike[str] | None) -> Iterator[None]:
+    """Resolve the :class:`File` parameters parsed inside the block against ``path``."""
+    token = _BASE.set(None if path is None else Path(path))
+    try:
+        yield
+    finally:
+        _BASE.reset(token)
+
+
+class File(Spec):
+    """A file name (a mask image), relative to the recipe's directory; read, never run."""
+
+    expected = "a file name"
+
+    def parse_plain(self, value: Any, path: str) -> Path:
+        if not isinstance(value, str) or not value.strip() or len(value) > 4096 or "\0" in value:
+            raise self.fail(value, path)
+        p = Path(value).expanduser()
+        base = _BASE.get()
+        if not p.is_absolute() and base is not None:
+            p = base / p
+        if not p.is_file():
+            raise RecipeError(path, f"expected an image file, got {value!r} (not found: {p})")
+        return p
+
+
+class Disk(Spec):
+    """A disk ``[lon, lat, radius]`` in degrees (the radius from 0 to 90, exclusive of 0)."""
+
+    expected = "a disk [lon, lat, radius] in degrees (lat from -90 to 90, radius > 0)"
+    _lon = Real()
+    _lat = Real(ge=-90, le=90)
+    _radius = Real(gt=0, le=180)
+
+    def parse_plain(self, value: Any, path: str) -> tuple[float, float, float]:
+        if not isinstance(value, list) or len(value) != 3:
+            raise self.fail(value, path)
+        return (
+            self._lon.parse_plain(value[0], f"{path}[0]"),
+            self._lat.parse_plain(value[1], f"{path}[1]"),
+            self._radius.parse_plain(value[2], f"{path}[2]"),
+        )
+
+
+def _object(value: Any, path: str, forms: dict[str, tuple[str, ...]], what: str) -> dict:
+    """Check a small JSON object whose fields are one of ``forms`` (name -> fields)."""
+    if not isinstance(value, dict):
+        raise RecipeError(path, f"expected {what}, got {describe(value)}")
+    known = sorted({k for f in forms.values() for k in f})
+    for key in value:
+        if key not in known:
+            raise RecipeError(f"{path}.{key}", f"unknown field{suggest(key, known)} "
+                              f"(expected one of {', '.join(known)})")  # fmt: skip
+    return value
+
+
+class Generators(Spec):
+    """Schottky generators: ``{"disk": D, "to": D, "twist": DEG}`` or ``{"disk": D,
+    "matrix": [a, b, c, d]}`` each (``D`` a :class:`Disk`)."""
+
+    expected = "a list of generators {disk, to[, twist]} or {disk, matrix}"
+    _disk = Disk()
+    _twist = Real()
+
+    def parse_plain(self, value: Any, path: str) -> tuple[dict[str, Any], ...]:
+        if not isinstance(value, list) or len(value) > 64:
+            raise self.fail(value, path, "a list of at most 64 generators")
+        out = []
+        forms = {"disks": ("disk", "to", "twist"), "matrix": ("disk", "matrix")}
+        for k, g in enumerate(value):
+            where = f"{path}[{k}]"
+            g = _object(g, where, forms, "a generator {disk, to} or {disk, matrix}")
+            if "disk" not in g:
+                raise RecipeError(f"{where}.disk", f"missing: expected {Disk.expected}")
+            if ("to" in g) == ("matrix" in g):
+                raise RecipeError(where, "expected 'to' (a second disk) or 'matrix', not "
+                                  + ("both" if "to" in g else "neither"))  # fmt: skip
+            item: dict[str, Any] = {"disk": self._disk.parse(g["disk"], f"{where}.disk")}
+            if "to" in g:
+                item["to"] = self._disk.parse(g["to"], f"{where}.to")
+                item["twist"] = self._twist.parse(g.get("twist", 0.0), f"{where}.twist")
+            else:
+                if "twist" in g:
+                    raise RecipeError(f"{where}.twist", "a twist goes with 'to', not 'matrix'")
+                item["matrix"] = Matrix().parse(g["matrix"], f"{where}.matrix")
+            out.append(item)
+        return tuple(out)
+
+
+class Targets(Spec):
+    """Where each mask colour's outside goes: ``{"colour": C, "to": D}`` or
+    ``{"colour": C, "zoom": F}`` (F > 1)."""
+
+    expected = "a list of targets {colour, to} or {colour, zoom}"
+    _disk = Disk()
+    _zoom = Real(gt=1, le=1e9)
+
+    def parse_plain(self, value: Any, path: str) -> tuple[dict[str, Any], ...]:
+        if not isinstance(value, list) or not value or len(value) > 64:
+            raise self.fail(value, path, "a list of 1 to 64 targets")
+        forms = {"disk": ("colour", "to"), "zoom": ("colour", "zoom")}
+        out = []
+        for k, g in enumerate(value):
+            where = f"{path}[{k}]"
+            g = _object(g, where, forms, "a target {colour, to} or {colour, zoom}")
+            colour = g.get("colour")
+            if not isinstance(colour, str) or not colour.strip() or len(colour) > 40:
+                raise RecipeError(f"{where}.colour", "expected a colour name or #RRGGBB, got "
+                                  + describe(colour))  # fmt: skip
+            if ("to" in g) == ("zoom" in g):
+                raise RecipeError(where, "expected 'to' (a disk) or 'zoom' (a factor > 1), not "
+                                  + ("both" if "to" in g else "neither"))  # fmt: skip
+            item: dict[str, Any] = {"colour": colour.strip()}
+            if "to" in g:
+                item["to"] = self._disk.parse(g["to"], f"{where}.to")
+            else:
+                item["zoom"] = self._zoom.parse(g["zoom"], f"{where}.zoom")
+            out.append(item)
+        return tuple(out)

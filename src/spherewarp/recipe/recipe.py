@@ -55,8 +55,11 @@ class Step:
 
         try:
             return EFFECTS[self.effect].build(self.values(t))
-        except RecipeError:
-            raise
+        except RecipeError as exc:
+            if exc.path.startswith("steps["):
+                raise
+            where = f"{self.path}.{self.effect}" + (f".{exc.path}" if exc.path else "")
+            raise RecipeError(where, exc.detail) from None
         except (InvalidValueError, InvalidTypeError) as exc:
             when = f" at t = {t:g}" if self.animated else ""
             raise RecipeError(f"{self.path}.{self.effect}", f"{exc}{when}") from None
@@ -87,6 +90,56 @@ class Frame:
     background: str | None = None
     view: dict[str, Any] = field(default_factory=dict)
     pose: Any = None
+    #: for a step that renders its own picture: ``render(images, warp_kwargs)``
+    renderer: Any = None
+    #: the picture is flat (a Peirce square, a torus, a log plane): no GPano, no grid
+    flat: bool = False
+    #: how many input images the frame takes
+    n_inputs: int = 1
+
+    def sized_map(self, warp_kwargs: dict[str, Any], in_shape: tuple[int, ...]) -> Any:
+        """The map, its depth sized for the output (a Schottky map's ``for_output``)."""
+        m = self.map
+        if hasattr(m, "for_output"):
+            m = m.for_output(output_width(warp_kwargs, in_shape))
+        return m
+
+    def render_pixels(self, images: Any, warp_kwargs: dict[str, Any]) -> Any:
+        """The pixels of this frame from ``images`` (one, or a list of :attr:`n_inputs`)."""
+        from ..render import warp
+
+        imgs = list(images) if isinstance(images, (list, tuple)) else [images]
+        if len(imgs) != self.n_inputs:
+            raise RecipeError("inputs", f"expected {self.n_inputs} input image(s), got {len(imgs)}")
+        if self.renderer is not None:
+            return self.renderer(imgs, warp_kwargs)
+        return warp(imgs[0], self.sized_map(warp_kwargs, imgs[0].shape), **warp_kwargs)
+
+
+def output_width(kwargs: dict[str, Any], in_shape: tuple[int, ...]) -> int:
+    """The width of an equirectangular output with pixels as fine as the output's finest.
+
+    For a grid, from the angle between neighbouring pixel centres (the larger of the
+    two axes', at the smallest over a lattice of pixels).
+    """
+    grid = kwargs.get("grid")
+    if grid is None:
+        shape = kwargs.get("output_shape") or in_shape[:2]
+        return int(shape[1])
+    import numpy as np
+
+    h, w = grid.shape
+    y, x = np.meshgrid(np.linspace(0.5, h - 1.5, 17), np.linspace(0.5, w - 1.5, 17))
+    c, ok = grid.directions_at(x, y)
+    steps = []
+    for dx, dy in ((1.0, 0.0), (0.0, 1.0)):
+        n, ok2 = grid.directions_at(x, y, dx, dy)
+        steps.append(np.arccos(np.clip((c * n).sum(-1), -1.0, 1.0)))
+        ok = ok & ok2
+    step = np.maximum(*steps)[ok & (np.maximum(*steps) > 0)]
+    if step.size == 0:
+        return max(h, w)
+    return int(min(2**20, math.ceil(2 * math.pi / float(step.min()))))
 
 
 class Recipe:
@@ -103,6 +156,9 @@ class Recipe:
     ----------
     data : dict
         The recipe as JSON data (see :meth:`from_dict`); it is validated.
+    base : path, optional
+        The directory that relative file names in the recipe (a mask) are read
+        from: the recipe file's own (:meth:`load`), else the current directory.
 
     Examples
     --------
@@ -119,22 +175,26 @@ class Recipe:
     spherewarp.recipe.errors.RecipeError: steps[0]: unknown effect 'zooom' (did you mean 'zoom'?)
     """
 
-    def __init__(self, data: dict[str, Any]) -> None:
+    def __init__(self, data: dict[str, Any], base: str | os.PathLike[str] | None = None) -> None:
+        from .params import base_dir
+
         self._data = data
-        self._parse(data)
+        self.base = None if base is None else Path(base)
+        with base_dir(self.base):
+            self._parse(data)
 
     # -- reading ------------------------------------------------------------------------------
     @classmethod
-    def from_dict(cls, data: Any) -> Recipe:
+    def from_dict(cls, data: Any, base: str | os.PathLike[str] | None = None) -> Recipe:
         """Validate recipe JSON data (already parsed) and return the recipe.
 
         Raises :class:`RecipeError` naming the first bad field.
         """
         _check_depth(data)
-        return cls(json.loads(_json_text(data)))  # a copy: the caller's data may change
+        return cls(json.loads(_json_text(data)), base)  # a copy: the caller's data may change
 
     @classmethod
-    def loads(cls, text: str | bytes) -> Recipe:
+    def loads(cls, text: str | bytes, base: str | os.PathLike[str] | None = None) -> Recipe:
         """Parse and validate recipe JSON text (at most :data:`MAX_BYTES`)."""
         if len(text) > MAX_BYTES:
             raise RecipeError(
@@ -156,7 +216,7 @@ class Recipe:
                 "", f"not JSON: {exc.msg} (line {exc.lineno}, column {exc.colno})"
             ) from None
         _check_depth(data)
-        return cls(data)
+        return cls(data, base)
 
     @classmethod
     def load(cls, path: str | os.PathLike[str]) -> Recipe:
@@ -176,7 +236,7 @@ class Recipe:
             raise ImageFormatError(f"cannot read recipe '{p}': it is a directory") from None
         except OSError as exc:
             raise ImageFormatError(f"cannot read recipe '{p}': {exc.strerror or exc}") from None
-        return cls.loads(text)
+        return cls.loads(text, base=p.resolve().parent)
 
     @staticmethod
     def validate(data: Any) -> None:
@@ -234,7 +294,7 @@ class Recipe:
         from ..maps import Mobius
 
         tt = self.time(t)
-        maps = [s.map_at(tt) for s in self._steps]
+        maps = [m for m in (s.map_at(tt) for s in self._steps) if m is not None]
         if not maps:
             return Mobius.identity()
         total = maps[0]
@@ -242,14 +302,36 @@ class Recipe:
             total = total @ m
         return total
 
+    @property
+    def n_inputs(self) -> int:
+        """How many input images the recipe renders from (a split screen's, Droste's
+        ``images``); 1 for most."""
+        return self._n_inputs
+
     def at(self, t: float = 0.0) -> Frame:
         """The map and the render options at time ``t``."""
+        renderer, flat = None, False
+        m = self.map_at(t)
+        if self._steps:
+            step = self._steps[0]
+            effect = EFFECTS[step.effect]
+            values = step.values(self.time(t))
+            flat = effect.flat(values)
+            if effect.render is not None and effect.whole(values):
+                draw = effect.render
+
+                def renderer(images: list[Any], kwargs: dict[str, Any]) -> Any:
+                    return draw(images, values, m, kwargs)
+
         return Frame(
-            self.map_at(t),
+            m,
             dict(self._warp_kwargs),
             self._background,
             dict(self._view),
-            self.pose_at(t),
+            None if flat or renderer is not None else self.pose_at(t),
+            renderer,
+            flat,
+            self._n_inputs,
         )
 
     def pose_at(self, t: float = 0.0) -> Any:
@@ -270,15 +352,15 @@ class Recipe:
 
         ``warp_kwargs`` override the recipe's options (``threads=``, ``progress=``, ...).
         """
-        from ..render import warp
-
         frame = self.at(t)
         kwargs = dict(frame.warp_kwargs)
-        grid = view_grid(frame.view, getattr(image, "pixels", image).shape)
+        images = list(image) if isinstance(image, (list, tuple)) else [image]
+        images = [getattr(i, "pixels", i) for i in images]
+        grid = view_grid(frame.view, images[0].shape)
         if grid is not None:
             kwargs.pop("output_shape", None)
             kwargs["grid"] = grid
-        return warp(image, frame.map, **{**kwargs, **warp_kwargs})
+        return frame.render_pixels(images, {**kwargs, **warp_kwargs})
 
     def frame_times(self, fps: float, duration: float | None = None) -> list[float]:
         """The times of the frames of an animation at ``fps`` frames a second.
@@ -291,6 +373,9 @@ class Recipe:
             raise RecipeError("duration", "expected a duration in seconds for an animation")
         n = max(1, round(d * fps))
         return [k / fps for k in range(n if self._loop else n + 1)]
+
+    def _check_whole(self, data: dict[str, Any]) -> None:
+        _check_whole_steps(self, data)
 
     def __repr__(self) -> str:
         names = ", ".join(s.effect for s in self._steps)
@@ -346,6 +431,35 @@ class Recipe:
             self._warp_kwargs["output_shape"] = (h, w)
         for s in self._steps:  # every builder's own checks, at the start
             s.map_at(0.0)
+        self._check_whole(data)
+
+
+def _check_whole_steps(recipe: Recipe, data: dict[str, Any]) -> None:
+    """A step that renders its own picture is the only step; the inputs it needs are named."""
+    n = 1
+    for k, s in enumerate(recipe.steps):
+        effect = EFFECTS[s.effect]
+        values = s.values(0.0)
+        if effect.render is not None and effect.whole(values) and len(recipe.steps) > 1:
+            raise RecipeError(
+                f"steps[{k}].{s.effect}",
+                "renders a picture of its own (several inputs, a flat panel): it must be the "
+                f"recipe's only step, got {len(recipe.steps)} steps",
+            )
+        n = max(n, effect.inputs(values))
+        if effect.flat(values) and any(
+            recipe._view.get(v) for v in ("projection", "look_at", "roll", "fov")
+        ):
+            raise RecipeError(
+                "view", f"{s.effect} makes a flat picture of its own: no projection, look_at, "
+                "roll or fov"
+            )  # fmt: skip
+    inputs = data.get("inputs")
+    if n > 1 and inputs is not None and len(inputs) < n:
+        raise RecipeError(
+            "inputs", f"expected {n} input names for {recipe.steps[0].effect}, got {len(inputs)}"
+        )
+    recipe._n_inputs = n
 
 
 def _parse_step(step: Any, path: str) -> Step:

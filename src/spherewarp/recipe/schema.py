@@ -42,8 +42,81 @@ def _number(spec: P.Real) -> dict[str, Any]:
     return out
 
 
+_DISK = {
+    "type": "array",
+    "prefixItems": [
+        {"type": "number"},
+        {"type": "number", "minimum": -90, "maximum": 90},
+        {"type": "number", "exclusiveMinimum": 0, "maximum": 180},
+    ],
+    "minItems": 3,
+    "maxItems": 3,
+}
+
+
+def _real_or_track() -> dict[str, Any]:
+    return {"oneOf": [{"type": "number"}, _TRACK]}
+
+
 def spec_schema(spec: P.Spec) -> dict[str, Any]:
     """The JSON Schema of one parameter."""
+    from .effects import _Cells, _Seam
+
+    if isinstance(spec, _Seam):
+        return {"oneOf": [{"const": "auto"}, {"type": "number"}]}
+    if isinstance(spec, _Cells):
+        item = {"type": "integer", "minimum": 1, "maximum": 64}
+        return {"type": "array", "items": item, "minItems": 2, "maxItems": 2}
+    if isinstance(spec, P.File):
+        return {"type": "string", "minLength": 1, "maxLength": 4096}
+    if isinstance(spec, P.Generators):
+        disk = {"$ref": "#/$defs/disk"}
+        return {
+            "type": "array",
+            "maxItems": 64,
+            "items": {
+                "oneOf": [
+                    {
+                        "type": "object",
+                        "required": ["disk", "to"],
+                        "additionalProperties": False,
+                        "properties": {"disk": disk, "to": disk, "twist": _real_or_track()},
+                    },
+                    {
+                        "type": "object",
+                        "required": ["disk", "matrix"],
+                        "additionalProperties": False,
+                        "properties": {"disk": disk, "matrix": spec_schema(P.Matrix())},
+                    },
+                ]
+            },
+        }
+    if isinstance(spec, P.Targets):
+        colour = {"type": "string", "minLength": 1, "maxLength": 40}
+        return {
+            "type": "array",
+            "minItems": 1,
+            "maxItems": 64,
+            "items": {
+                "oneOf": [
+                    {
+                        "type": "object",
+                        "required": ["colour", "to"],
+                        "additionalProperties": False,
+                        "properties": {"colour": colour, "to": {"$ref": "#/$defs/disk"}},
+                    },
+                    {
+                        "type": "object",
+                        "required": ["colour", "zoom"],
+                        "additionalProperties": False,
+                        "properties": {
+                            "colour": colour,
+                            "zoom": {"oneOf": [{"type": "number", "exclusiveMinimum": 1}, _TRACK]},
+                        },
+                    },
+                ]
+            },
+        }
     if isinstance(spec, P.RealOrAuto):
         return {"oneOf": [{"const": "auto"}, _number(spec), _TRACK]}
     if isinstance(spec, P.Real):
@@ -146,6 +219,7 @@ def json_schema() -> dict[str, Any]:
         },
         "$defs": {
             "step": {"oneOf": steps},
+            "disk": _DISK,
             "track": {
                 "type": "object",
                 "required": ["keyframes"],

@@ -109,6 +109,8 @@ def resolve(value: Any, t: float) -> Any:
         return tuple(resolve(v, t) for v in value)
     if isinstance(value, list):
         return [resolve(v, t) for v in value]
+    if isinstance(value, dict):
+        return {k: resolve(v, t) for k, v in value.items()}
     return value
 
 
@@ -118,4 +120,6 @@ def has_track(value: Any) -> bool:
         return True
     if isinstance(value, (tuple, list)):
         return any(has_track(v) for v in value)
+    if isinstance(value, dict):
+        return any(has_track(v) for v in value.values())
     return False
