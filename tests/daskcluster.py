@@ -47,7 +47,7 @@ class Cluster:
         out = open(self.where / f"{log}.log", "wb")  # noqa: SIM115 - kept open with the process
         p = subprocess.Popen(
             [sys.executable, "-m", module, *args], stdout=out, stderr=subprocess.STDOUT,
-            stdin=subprocess.DEVNULL, env=dict(os.environ),
+            stdin=subprocess.DEVNULL, env=_env(),
         )  # fmt: skip
         self.procs.append(p)
         return p
@@ -73,6 +73,9 @@ class Cluster:
         self.workers[k].wait(30)
 
     def close(self) -> None:
+        for p in self.workers:  # nothing of theirs is kept: no need to wait for a clean exit
+            if p.poll() is None:
+                p.kill()
         for p in reversed(self.procs):
             if p.poll() is None:
                 p.terminate()
@@ -82,6 +85,13 @@ class Cluster:
             except subprocess.TimeoutExpired:
                 p.kill()
                 p.wait()
+
+
+def _env() -> dict[str, str]:
+    """This environment, with the tests' folder importable (for :func:`_warm`)."""
+    here = str(Path(__file__).parent)
+    path = os.environ.get("PYTHONPATH", "")
+    return {**os.environ, "PYTHONPATH": f"{path}{os.pathsep}{here}" if path else here}
 
 
 def _warm() -> bool:

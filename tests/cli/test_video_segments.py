@@ -1,5 +1,5 @@
 """``spherewarp video`` in segments: resume after SIGINT or SIGKILL, a refused manifest,
-``--progress json``, ``--jobs`` and ``--dask`` (a real scheduler and two workers)."""
+``--progress json``, ``--jobs`` (``--dask``: test_dask.py)."""
 
 from __future__ import annotations
 
@@ -162,53 +162,3 @@ def test_dask_without_dask_says_how_to_install(clip, workdir):
     assert p.returncode == 2 and err.count("\n") == 1, err
     assert 'pip install "spherewarp[dask]"' in err
     assert not Path("d.mp4").exists()
-
-
-# -- a real scheduler and two workers --------------------------------------------------------
-
-
-@pytest.fixture
-def cluster(tmp_path):
-    pytest.importorskip("distributed")
-    from daskcluster import Cluster
-
-    c = Cluster(tmp_path / "dask", workers=2)
-    yield c
-    c.close()
-
-
-def test_dask_render_equals_the_local_one(clip, cluster):
-    ok(None, "video", clip.name, "-o", "local.mp4", "--segment", SEG, "--quiet", *ROTATE)
-    ok(None, "video", clip.name, "-o", "dask.mp4", "--segment", SEG, "--quiet", "--dask",
-       cluster.address, *ROTATE)  # fmt: skip
-    assert times("dask.mp4") == times("local.mp4") == times(clip)
-    assert packets("dask.mp4", "audio") == packets(clip, "audio")
-    a, b = frames("dask.mp4"), frames("local.mp4")
-    assert len(a) == len(b) == 48
-    assert min(psnr(x, y) for x, y in zip(a, b, strict=True)) >= 45
-    assert not Path("dask.mp4.parts").exists()
-
-
-def test_dask_survives_a_killed_worker(clip, cluster):
-    ok(None, "video", clip.name, "-o", "local.mp4", "--segment", SEG, "--quiet", *ROTATE)
-    p = start("video", clip.name, "-o", "dask.mp4", "--segment", SEG, "--quiet", "--dask",
-              cluster.address, *ROTATE)  # fmt: skip
-    wait_for_segments(Path("dask.mp4.parts"), 1, p)
-    cluster.kill_worker(0)  # with segments in flight
-    _, err = p.communicate(timeout=300)
-    assert p.returncode == 0, err
-    assert times("dask.mp4") == times("local.mp4")
-    assert packets("dask.mp4", "audio") == packets(clip, "audio")
-    a, b = frames("dask.mp4"), frames("local.mp4")
-    assert len(a) == len(b) == 48
-    assert min(psnr(x, y) for x, y in zip(a, b, strict=True)) >= 45
-
-
-def test_dask_refuses_an_input_workers_cannot_read(clip, cluster, workdir):
-    hidden = workdir / "private"
-    hidden.mkdir()
-    os.rename(clip, hidden / "in.mp4")
-    code, _, err = run(None, "video", "private/in.mp4", "-o", "d.mp4", "--dask", cluster.address,
-                       *ROTATE)  # fmt: skip
-    # every worker here shares the file system, so it reads it: the check passes
-    assert code == 0, err

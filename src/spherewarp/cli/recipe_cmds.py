@@ -194,12 +194,19 @@ def _render_frame(src: Any, frame: Any, render: RenderOptions, command: str) -> 
     show_default=True,
     help="The time in seconds at which to evaluate the recipe's tracks.",
 )
+@click.option(
+    "--dask",
+    metavar="ADDRESS",
+    help="Render the INPUTs on the workers of this Dask scheduler (tcp://host:8786), which "
+    "read them (and R.json) by the same path; the files are written here.",
+)
 @render_options
-def render(input: Path, render: RenderOptions, recipe: Path, time: float) -> None:
+def render(input: Path, render: RenderOptions, recipe: Path, time: float, dask: str | None) -> None:
     """Render a recipe (R.json, as --save-recipe writes it) on INPUT.
 
     The recipe's options (--interp, --supersample, --antialias, --size,
-    --background) apply unless given here.
+    --background) apply unless given here. With --dask the images are warped on
+    a Dask cluster's workers, all at once, and written here as without it.
     """
     from ..recipe import Recipe
     from ._common import load_input, output_path, save_output
@@ -208,11 +215,64 @@ def render(input: Path, render: RenderOptions, recipe: Path, time: float) -> Non
 
     job().reads(recipe, "recipe")
     frame = Recipe.load(recipe).at(time)
-    render = _with_recipe_options(click.get_current_context(), render, frame)
+    ctx = click.get_current_context()
+    render = _with_recipe_options(ctx, render, frame)
     check_output_suffix(output_path(render, input, "render"))  # refuse a bad output early
     src = load_input(input, render)
-    out, gpano = _render_frame(src, frame, render, "render")
+    if dask is None:
+        out, gpano = _render_frame(src, frame, render, "render")
+    else:
+        out, gpano = _dask_batch(ctx, dask, recipe, render, time).result(input)
     save_output(out, src, render, command="render", gpano=gpano)
+
+
+class _DaskBatch:
+    """The INPUTs of one ``render --dask`` run, all sent to the workers at the first one
+    (each then waits for its own result, so the batch renders in parallel)."""
+
+    def __init__(self, address: str, recipe: Path, inputs: list[Path], render: RenderOptions,
+                 time: float) -> None:  # fmt: skip
+        import os
+
+        from ..io.segments import check_workers, dask_client
+
+        self.client = dask_client(address)
+        paths = [os.path.abspath(p) for p in (recipe, *inputs)]
+        check_workers(self.client, paths)
+        self.futures = {
+            p: self.client.submit(_remote_still, a, paths[0], render, time, pure=False)
+            for p, a in zip(inputs, paths[1:], strict=True)
+        }
+
+    def result(self, input: Path) -> tuple[Any, Any]:
+        return self.futures[input].result()
+
+
+_BATCHES: dict[int, _DaskBatch] = {}
+
+
+def _dask_batch(
+    ctx: click.Context, address: str, recipe: Path, render: RenderOptions, time: float
+) -> _DaskBatch:
+    key = id(ctx)
+    if key not in _BATCHES:
+        ctx.call_on_close(lambda: _BATCHES.pop(key).client.close())
+        inputs = list(dict.fromkeys(ctx.params["input"]))
+        _BATCHES[key] = _DaskBatch(address, recipe, inputs, render, time)
+    return _BATCHES[key]
+
+
+def _remote_still(input: str, recipe: str, render: RenderOptions, time: float) -> tuple[Any, Any]:
+    """On a Dask worker: the pixels of ``recipe`` at ``time`` on ``input``, and the GPano."""
+    from ..io.segments import _dask_threads, _set_threads
+    from ..recipe import Recipe
+    from ._common import load_input
+    from ._files import new_job
+
+    _set_threads(_dask_threads())
+    new_job()
+    src = load_input(Path(input), render)
+    return _render_frame(src, Recipe.load(recipe).at(time), render, "render")
 
 
 FPS = RealType("frames per second", "24 or 29.97", metavar="F", gt=0, le=1000)

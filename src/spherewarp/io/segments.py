@@ -367,7 +367,7 @@ def dask_client(address: str) -> Any:
     except ImportError:
         raise InvalidValueError(f"--dask: {DASK_INSTALL}") from None
     try:
-        return Client(address, timeout="10s", set_as_default=False)
+        return Client(address, timeout="10s")
     except (OSError, TimeoutError) as exc:
         raise InvalidValueError(
             f"--dask {address}: cannot reach the scheduler ({exc}); start one with "
