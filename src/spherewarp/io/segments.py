@@ -40,8 +40,6 @@ import hashlib
 import json
 import os
 import shutil
-import sys
-import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -68,7 +66,10 @@ __all__ = [
     "DEFAULT_SEGMENT_SECONDS",
     "ManifestMismatch",
     "SegmentJob",
+    "check_workers",
+    "dask_client",
     "frame_times",
+    "join",
     "parts_dir",
     "plan_segments",
     "render_segment",
@@ -264,8 +265,13 @@ def _open_manifest(
         "options": _digest(identity),
         "frames": len(pts),
         "segments": [
-            {"index": i, "start": a, "end": b, "start_pts": pts[a],
-             "end_pts": pts[b] if b < len(pts) else None}
+            {
+                "index": i,
+                "start": a,
+                "end": b,
+                "start_pts": pts[a],
+                "end_pts": pts[b] if b < len(pts) else None,
+            }
             for i, (a, b) in enumerate(ranges)
         ],  # fmt: skip
         "done": {},
@@ -533,9 +539,15 @@ def render_segmented(
             continue
         todo.append(
             SegmentJob(
-                input=os.path.abspath(input), part=os.path.abspath(work / _part_name(i)),
-                index=i, start_pts=pts[a], end_pts=pts[b] if b < len(pts) else None,
-                frames=b - a, frame_map=frame_map, settings=s, planar=planar,
+                input=os.path.abspath(input),
+                part=os.path.abspath(work / _part_name(i)),
+                index=i,
+                start_pts=pts[a],
+                end_pts=pts[b] if b < len(pts) else None,
+                frames=b - a,
+                frame_map=frame_map,
+                settings=s,
+                planar=planar,
             )  # fmt: skip
         )
     counter = _Frames(len(pts), progress)
@@ -547,9 +559,7 @@ def render_segmented(
         manifest.mark(index, size)
         counter.segment(index, frames)
 
-    resume_hint = (
-        f"rerun with --resume to continue from the finished segments in '{work}'"
-    )
+    resume_hint = f"rerun with --resume to continue from the finished segments in '{work}'"
     try:
         if client is not None:
             _run_dask(todo, client, finished)
