@@ -18,7 +18,8 @@ ZOOM = Mobius.zoom((0, 0), 2).inverse()
 
 
 def psnr(a, b, peak=255.0):
-    return 10 * np.log10(peak**2 / np.mean((a.astype(np.float64) - b) ** 2))
+    mse = np.mean((a.astype(np.float64) - b) ** 2)
+    return np.inf if mse == 0 else 10 * np.log10(peak**2 / mse)
 
 
 def decoded(path):

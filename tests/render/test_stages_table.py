@@ -24,7 +24,21 @@ MAPS = {
     "lattes": Lattes((2, 1)),
     "droste": Droste((30, 20), np.log(0.3) + 0.1 * np.cos(np.arange(16)), 3.0, phase=0.3),
     "schottky": Schottky.from_disk_pairs([((0, 0, 20), (180, 0, 20))], phase=0.25),
+    "schottky_mask": None,  # made from a mask below
 }
+
+
+def _schottky_mask():
+    from spherewarp.maps.schottky import Cap, MaskRegions, cap_from_mask, generator_between
+
+    mask = np.zeros((18, 36, 3), np.uint8)
+    mask[8:10, 17:19] = (255, 0, 0)
+    cap = cap_from_mask(mask, (1, 0, 0), inside=True)
+    s = Schottky([(cap, generator_between(cap, Cap(180, 0, 10)))], phase=0.5)
+    return s.with_mask_regions(MaskRegions(mask, [(1, 0, 0)]))
+
+
+MAPS["schottky_mask"] = _schottky_mask()
 
 
 def test_codes_are_unique_and_in_order():

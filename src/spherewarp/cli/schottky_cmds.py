@@ -154,7 +154,7 @@ DEGREES = RealType("degrees", "30", metavar="DEG")
     help="With --mask: 'exact' takes each disk D_x as the pixels of its colour and D_X = "
     "X(outside of D_x) (the paper's rule), with X built from the largest round disk "
     "inside the region, so that D_X lies in its --target disk; 'round' takes the smallest "
-    "round disk about each colour as D_x (faster: compiled).",
+    "round disk about each colour as D_x.",
 )
 @click.option(
     "--target",

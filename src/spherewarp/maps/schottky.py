@@ -18,7 +18,7 @@ The disks are round, or (the paper's mask workflow) the exact regions of a
 mask, one colour per ``D_x`` (:class:`MaskRegions`,
 :meth:`Schottky.with_mask_regions`): then ``D_X = X(C - D_x)`` holds the
 points ``q`` with ``X^-1(q)`` outside ``D_x`` and the mask's black is the
-fundamental region (less the ``D_X``); that reduction runs on the NumPy path.
+fundamental region (less the ``D_X``); that reduction is the ``schottky_mask`` stage.
 
 Convention: points are unit-norm pairs in the default chart
 (:mod:`spherewarp.coords`); disks are ``(lon, lat, radius)`` in degrees.
@@ -595,7 +595,7 @@ class Schottky(SphereMap):
         the outside of the region into its target disk, so each exact ``D_X`` lies
         in its round one; built from the disk round the region, ``D_X`` also holds
         the image of the disk's part outside the region, which can be large.
-        Rendered on the NumPy path.
+        Compiled (the ``schottky_mask`` stage) like the round disks.
 
         Raises
         ------
@@ -685,24 +685,36 @@ class Schottky(SphereMap):
         return self._reduce(zw)[0]
 
     def kernel_stages(self) -> tuple[tuple[str, NDArray[np.float64]], ...] | None:
-        """``("schottky", ...)`` after the phase's Möbius stage (compiled renderer; None
-        with the exact disks of a mask).
+        """``("schottky", ...)`` after the phase's Möbius stage, or ``("schottky_mask",
+        ...)`` with the exact disks of a mask (compiled renderer).
 
         The moves in :meth:`_reduce`'s order: ``D_x`` with ``X``, then ``D_X`` with
-        ``X^-1``, for each generator; each its disk's normal and ``cos r`` and the
-        Lorentz matrix of its map.
+        ``X^-1``, for each generator; each the Lorentz matrix of its map and, with round
+        disks, its disk's normal and ``cos r`` (with a mask, its labels follow the
+        matrices).
         """
-        if self._regions is not None:
-            return None  # the exact disks of a mask: the NumPy path
-        from ..render.stages import SCHOTTKY, lorentz_from_sl2
+        from ..render.stages import SCHOTTKY, SCHOTTKY_MASK, lorentz_from_sl2
 
         moves = []
         for (cap, m), t in zip(self._gens, self._targets, strict=True):
             for disk, mat in ((cap, m.matrix), (t, m.inverse().matrix)):
-                lor = lorentz_from_sl2(mat / np.sqrt(np.linalg.det(mat)))
-                moves.append(np.concatenate([disk.normal, [disk.cos_r], lor.ravel()]))
-        row = SCHOTTKY.pack(count=len(self._gens), depth=self._depth, moves=np.array(moves))
-        core = (("schottky", row),)
+                lor = lorentz_from_sl2(mat / np.sqrt(np.linalg.det(mat))).ravel()
+                moves.append(
+                    lor if self._regions is not None else np.r_[disk.normal, disk.cos_r, lor]
+                )
+        if self._regions is None:
+            row = SCHOTTKY.pack(count=len(self._gens), depth=self._depth, moves=np.array(moves))
+            core: tuple[tuple[str, NDArray[np.float64]], ...] = (("schottky", row),)
+        else:
+            labels = self._regions.labels
+            row = SCHOTTKY_MASK.pack(
+                count=len(self._gens),
+                depth=self._depth,
+                width=labels.shape[1],
+                height=labels.shape[0],
+                data=np.concatenate([np.ravel(moves), labels.ravel().astype(np.float64)]),
+            )
+            core = (("schottky_mask", row),)
         return core if self._pre is None else self._pre.kernel_stages() + core
 
     def pull(self, zw: ComplexArray) -> PullBack:

@@ -96,6 +96,11 @@ from .stages import (
     RATIONAL_DEGREE,
     SCHOTTKY_COUNT,
     SCHOTTKY_DEPTH,
+    SCHOTTKY_MASK_COUNT,
+    SCHOTTKY_MASK_DATA,
+    SCHOTTKY_MASK_DEPTH,
+    SCHOTTKY_MASK_HEIGHT,
+    SCHOTTKY_MASK_WIDTH,
     SCHOTTKY_MOVES,
     SCHOTTKY_MOVES_COS_R,
     SCHOTTKY_MOVES_L00,
@@ -107,6 +112,7 @@ from .stages import (
     STAGE_POWER,
     STAGE_RATIONAL,
     STAGE_SCHOTTKY,
+    STAGE_SCHOTTKY_MASK,
 )
 
 # Only contraction (FMA) and signless zeros: 'reassoc' rewrites (1 - t) a + t b as
@@ -129,7 +135,7 @@ INV_TWO_PI = 0.5 / math.pi
 # Stage codes and parameter offsets: the table of spherewarp.render.stages (see run_stages).
 # numba freezes these globals into the machine code it caches on disk, and its cache only
 # looks at this file: a change of the table must touch this file (the fingerprint below).
-_TABLE_FINGERPRINT = "fe01cd273c0d"
+_TABLE_FINGERPRINT = "f8fc09782162"
 if _stages.fingerprint() != _TABLE_FINGERPRINT:  # pragma: no cover - a developer's reminder
     raise ImportError(
         "the stage table (spherewarp.render.stages) changed: update _TABLE_FINGERPRINT in "
@@ -874,6 +880,91 @@ def _stage_schottky(p, T, X, Y, Z, G, valid, n):
 
 
 @njit(_nrt=False, **_H)
+def _mask_label(p, lab0, w, h, t, x, y, z):
+    """The mask's label at the homogeneous point ``(t, x, y, z)``: that of the pixel it
+    falls in (as :meth:`spherewarp.maps.schottky.MaskRegions.label`)."""
+    inv = 1.0 / t
+    x = x * inv
+    y = y * inv
+    z = z * inv
+    lon = atan2_poly(y, x)
+    lat = atan2_poly(z, math.sqrt(x * x + y * y))
+    ix = int(math.floor((lon + PI) * (w * INV_TWO_PI))) % w
+    iy = int(math.floor((HALF_PI - lat) * (h / PI)))
+    iy = min(max(iy, 0), h - 1)
+    return int(p[lab0 + iy * w + ix])
+
+
+@njit(_nrt=False, **_H)
+def _stage_schottky_mask(p, T, X, Y, Z, G, valid, n):
+    """The Schottky reduction with the exact disks of a mask (``schottky_mask`` stage).
+
+    As :func:`_stage_schottky`, with the disk tests of
+    :meth:`spherewarp.maps.Schottky.with_mask_regions`: move ``2 i`` (``D_x``) when the
+    point's mask label is ``i``, then ``X``; move ``2 i + 1`` (``D_X = X(C - D_x)``) when
+    the label of ``X^-1`` of the point is not ``i``, which is then the new point. The
+    matrices of ``X`` and ``X^-1`` (16 floats each) start at ``SCHOTTKY_MASK_DATA``,
+    the labels (row-major) follow them.
+    """
+    nm = 2 * int(p[SCHOTTKY_MASK_COUNT])
+    depth = int(p[SCHOTTKY_MASK_DEPTH])
+    w = int(p[SCHOTTKY_MASK_WIDTH])
+    h = int(p[SCHOTTKY_MASK_HEIGHT])
+    lab0 = SCHOTTKY_MASK_DATA + 16 * nm
+    for k in range(n):
+        t = T[k]
+        x = X[k]
+        y = Y[k]
+        z = Z[k]
+        g = G[k]
+        last = -1
+        free = False
+        moved = False
+        for it in range(depth + 1):
+            move = -1
+            t2 = t
+            x2 = x
+            y2 = y
+            z2 = z
+            here = _mask_label(p, lab0, w, h, t, x, y, z)
+            for j in range(nm):
+                if j == (last ^ 1):
+                    continue
+                i = j >> 1
+                if (j & 1) == 0 and here != i:
+                    continue
+                o = SCHOTTKY_MASK_DATA + 16 * j
+                t2 = p[o] * t + p[o + 1] * x + p[o + 2] * y + p[o + 3] * z
+                x2 = p[o + 4] * t + p[o + 5] * x + p[o + 6] * y + p[o + 7] * z
+                y2 = p[o + 8] * t + p[o + 9] * x + p[o + 10] * y + p[o + 11] * z
+                z2 = p[o + 12] * t + p[o + 13] * x + p[o + 14] * y + p[o + 15] * z
+                if (j & 1) == 0 or _mask_label(p, lab0, w, h, t2, x2, y2, z2) != i:
+                    move = j
+                    break
+            if move < 0:
+                free = True
+                break
+            if it == depth:
+                break
+            inv = 1.0 / t2
+            g = g * inv
+            t = 1.0
+            x = x2 * inv
+            y = y2 * inv
+            z = z2 * inv
+            last = move
+            moved = True
+        if moved:
+            T[k] = t
+            X[k] = x
+            Y[k] = y
+            Z[k] = z
+            G[k] = g
+        if not free:
+            valid[k] = 0
+
+
+@njit(_nrt=False, **_H)
 def run_stages(codes, params, T, X, Y, Z, G, valid, n):
     """Apply the stages of a map, in order, to the first ``n`` points.
 
@@ -895,6 +986,8 @@ def run_stages(codes, params, T, X, Y, Z, G, valid, n):
             _stage_droste(params[s], T, X, Y, Z, G, valid, n)
         elif code == STAGE_SCHOTTKY:
             _stage_schottky(params[s], T, X, Y, Z, G, valid, n)
+        elif code == STAGE_SCHOTTKY_MASK:
+            _stage_schottky_mask(params[s], T, X, Y, Z, G, valid, n)
         # New kinds: elif code == STAGE_<NAME>: _stage_<name>(params[s], T, X, Y, Z, G, valid, n)
 
 

@@ -339,6 +339,20 @@ def _schottky_check(row: Row) -> str | None:
     return None
 
 
+def _schottky_mask_check(row: Row) -> str | None:
+    count, depth, w, h = row[0], row[1], row[2], row[3]
+    if not (_is_int(count) and count >= 1 and _is_int(depth) and 0 <= depth <= 1_000_000):
+        return "schottky_mask: count must be a positive integer and depth a non-negative one"
+    if not (_is_int(w) and _is_int(h) and w >= 1 and h >= 1):
+        return "schottky_mask: width and height must be positive integers"
+    if row.size != 4 + 2 * 16 * int(count) + int(w) * int(h):
+        return "schottky_mask: expected 2 Lorentz matrices per generator, then the labels"
+    labels = row[4 + 32 * int(count) :]
+    if not np.all((labels == np.floor(labels)) & (labels >= -1) & (labels < count)):
+        return "schottky_mask: labels must be -1 or a generator's index"
+    return None
+
+
 STAGES: tuple[Stage, ...] = (
     Stage(
         "mobius", 1, _LORENTZ,
@@ -379,6 +393,16 @@ STAGES: tuple[Stage, ...] = (
         "undoing of the last one), apply that move's matrix; invalid after depth moves "
         "(maps.Schottky; moves 2i and 2i + 1: D_x with X, D_X with X^-1)",
     ),
+    Stage(
+        "schottky_mask", 7, ("count", "depth", "width", "height"), tail="data",
+        has_jumps=True, validate=_schottky_mask_check,
+        doc="the Schottky reduction with the exact disks of a mask: data holds the Lorentz "
+        "matrices of X and X^-1 of each generator (16 floats each, row-major), then the "
+        "mask's labels (width x height, row-major: -1 or the generator whose D_x holds the "
+        "pixel). Move 2i (D_x: the point's label is i) applies X, move 2i + 1 (D_X: the "
+        "label of X^-1 of the point is not i) applies X^-1; as schottky otherwise "
+        "(maps.Schottky.with_mask_regions)",
+    ),
 )  # fmt: skip
 
 BY_NAME: Mapping[str, Stage] = {s.name: s for s in STAGES}
@@ -391,6 +415,7 @@ EXP = BY_NAME["exp"]
 RATIONAL = BY_NAME["rational"]
 DROSTE = BY_NAME["droste"]
 SCHOTTKY = BY_NAME["schottky"]
+SCHOTTKY_MASK = BY_NAME["schottky_mask"]
 
 
 # -- compile-time constants of the kernels (numba reads module globals as constants) ---------------
