@@ -110,5 +110,71 @@ def test_animate_errors_are_one_line_and_write_nothing(tmp_path, pano):
     assert "exists; pass --overwrite" in err
     assert not (tmp_path / "f_0000.png").exists()
     assert (tmp_path / "f_0001.png").read_bytes() == b"keep"
-    code, _, err = run(None, "animate", timed, pano, "--fps", "2", "-o", tmp_path / "v.mp4")
-    assert code == 2 and "Traceback" not in err
+    code, _, err = run(None, "animate", timed, pano, "--fps", "2", "-o", tmp_path / "v.mkv")
+    assert code == 0 and (tmp_path / "v.mkv").exists()  # a video output: one file, encoded
+    code, _, err = run(None, "animate", timed, pano, "--fps", "2", "-o", tmp_path / "v.avi")
+    assert code == 2 and "Traceback" not in err  # not a video extension: an image one, refused
+
+
+def test_an_animated_droste_loop_to_mp4_loops(tmp_path):
+    import shutil
+    import subprocess
+
+    av = pytest.importorskip("av")
+    from spherewarp.io.video import probe
+    from videoclip import panorama
+
+    pano = write_image(tmp_path / "interior.png", panorama())  # a photograph: codec error small
+
+    r = tmp_path / "loop.json"
+    ok(
+        None, "droste", pano, "--center", "0,0", "--inner-radius", "20", "--scale", "8",
+        "--frames", "2", "--save-recipe", r, "--dry-run", "-o", tmp_path / "x.png",
+    )  # fmt: skip
+    out = tmp_path / "loop.mp4"
+    ok(None, "animate", r, pano, "--fps", "12", "--duration", "1", "-o", out, "--crf", "12", "-q")
+    with av.open(str(out)) as c:
+        frames = [f.to_ndarray(format="rgb24") for f in c.decode(video=0)]
+    assert len(frames) == 12  # fps * duration
+    info = probe(out)
+    assert info.frames == 12 and info.rate == 12
+    assert info.spherical is not None and info.spherical.projection == "equirectangular"
+
+    def psnr(a, b):
+        return 10 * np.log10(255.0**2 / max(np.mean((a.astype(np.float64) - b) ** 2), 1e-12))
+
+    # the frame after the last (the recipe at t = duration) is the first, within codec error
+    after = tmp_path / "after.png"
+    ok(None, "render", r, pano, "--time", "1", "-o", after, "-q")
+    ref = read_image(after).pixels[..., :3]
+    assert psnr(ref, frames[0]) >= 35
+    first = tmp_path / "first.png"
+    ok(None, "render", r, pano, "--time", "0", "-o", first, "-q")
+    assert psnr(read_image(first).pixels[..., :3], ref) >= 50  # t = 0 and t = 1: one image
+    ok(None, "render", r, pano, "--time", f"{5 / 12}", "-o", first, "-q", "--overwrite")
+    assert psnr(read_image(first).pixels[..., :3], frames[5]) >= 35
+    ffprobe = shutil.which("ffprobe")
+    if ffprobe is not None:
+        args = ["-v", "error", "-show_entries", "stream_side_data=projection", str(out)]
+        done = subprocess.run([ffprobe, *args], capture_output=True, text=True, check=True)
+        assert "equirectangular" in done.stdout
+
+
+def test_animate_to_video_options_and_bad_input(tmp_path, pano):
+    spin = {"keyframes": [[0, 0], [1, 360]]}
+    data = {"duration": 1, "loop": True, "steps": [{"rotate": {"yaw": spin}}]}
+    r = recipe(tmp_path, "spin.json", data)
+    out = tmp_path / "spin.webm"
+    ok(None, "animate", r, pano, "--fps", "4", "-o", out, "-q", "--projection", "little-planet")
+    from spherewarp.io.video import probe
+
+    info = probe(out)
+    assert info.frames in (0, 4) and info.codec == "vp9" and info.spherical is None
+    code, _, err = run(None, "animate", r, pano, "--fps", "4", "-o", out, "-q")
+    assert code != 0 and "exists" in err  # no --overwrite
+    bad = tmp_path / "bad.mp4"
+    code, _, err = run(None, "animate", r, pano, "--fps", "4", "-o", bad, "--codec", "nope")
+    assert code != 0 and "no such video encoder" in err and err.count("\n") == 1
+    assert not bad.exists()
+    code, _, err = run(None, "animate", r, pano, "--fps", "4", "-o", tmp_path / "f/", "--crf", "9")
+    assert code == 2 and "--crf" in err and "video" in err

@@ -49,6 +49,7 @@ COMMANDS: dict[str, str] = {
     "splitscreen": "branched_cmds:splitscreen",
     "project": "views_cmds:project",
     "video": "video_cmds:video",
+    "view": "view_cmds:view",
 }
 
 

@@ -17,13 +17,39 @@ from typing import Any
 import click
 
 from ._common import RealType, RenderOptions, example, input_argument, render_options
+from ._video_out import encoding_options, is_video_output
 
-__all__ = ["render", "animate", "recipe_options", "saving_recipe", "recipe_of"]
+__all__ = [
+    "render",
+    "animate",
+    "recipe_options",
+    "saving_recipe",
+    "recipe_of",
+    "capturing_recipe",
+]
 
 TIME = RealType("a time in seconds", "1.5", metavar="T")
 
 #: recipe files this process wrote (path -> data): a batch writes one recipe, naming its inputs
 _WRITTEN: dict[str, dict[str, Any]] = {}
+#: while :func:`capturing_recipe` runs: the recipes the effect commands would save
+_CAPTURED: list[dict[str, Any]] | None = None
+
+
+@contextlib.contextmanager
+def capturing_recipe() -> Iterator[list[dict[str, Any]]]:
+    """Collect the recipe an effect command builds instead of rendering or saving it.
+
+    Inside the block, :func:`saving_recipe` appends the recipe data of its step to the
+    list yielded and tells the command to render nothing (as ``--dry-run``); so
+    ``spherewarp video ... droste`` builds the very step ``spherewarp droste`` would.
+    """
+    global _CAPTURED
+    saved, _CAPTURED = _CAPTURED, []
+    try:
+        yield _CAPTURED
+    finally:
+        _CAPTURED = saved
 
 
 def recipe_options(func: Callable) -> Callable:
@@ -96,6 +122,10 @@ def saving_recipe(
     existing file is refused before any work without ``--overwrite``; a batch
     writes it once.
     """
+    if _CAPTURED is not None:  # capturing_recipe: hand the step over, render nothing
+        _CAPTURED.append(recipe_of(step, render, input, top))
+        yield True
+        return
     if path is None:
         if dry_run:
             raise click.UsageError("--dry-run goes with --save-recipe R.json")
@@ -285,6 +315,7 @@ MAX_FRAMES = 100000
     epilog=example(
         "spherewarp animate spin.json room.jpg --fps 24 -o frames/",
         "spherewarp animate flight.json room.jpg --fps 30 --duration 4 -o frames/%04d.png",
+        "spherewarp animate loop.json room.jpg --fps 24 -o loop.mp4 --crf 20",
     )
 )
 @click.argument("recipe", type=click.Path(dir_okay=False, path_type=Path), metavar="R.json")
@@ -295,9 +326,15 @@ MAX_FRAMES = 100000
     type=DURATION,
     help="Seconds to render (default: the recipe's duration).",
 )
+@encoding_options
 @render_options
 def animate(
-    input: Path, render: RenderOptions, recipe: Path, fps: float, duration: float | None
+    input: Path,
+    render: RenderOptions,
+    recipe: Path,
+    fps: float,
+    duration: float | None,
+    **encoding: Any,
 ) -> None:
     """Render the frames of a timed recipe (R.json) on INPUT, as numbered images.
 
@@ -306,7 +343,10 @@ def animate(
     the last is the first. -o names the frames: OUT.png gives OUT_0000.png,
     OUT_0001.png, ...; a pattern such as frames/%04d.png, or a directory
     (-o frames/: frames/INPUT-animate_0000.png, ...). PNG, TIFF, EXR, JPEG or
-    WebP, by the extension (default: INPUT's). The recipe's options apply
+    WebP, by the extension (default: INPUT's). -o OUT.mp4 (.mov, .m4v, .mkv,
+    .webm) encodes the frames into one video instead, with the encoder
+    options of `spherewarp video` (--codec, --crf, --preset, --pix-fmt); an
+    equirectangular one carries the 360° metadata. The recipe's options apply
     unless given here.
     """
     from dataclasses import replace
@@ -331,6 +371,11 @@ def animate(
     times = r.frame_times(fps, seconds)
     ctx = click.get_current_context()
     render = _with_recipe_options(ctx, render, r.at(0.0))
+    if is_video_output(render.output):
+        return _animate_video(input, render, r, times, fps, encoding)
+    if any(v is not None for v in encoding.values()):
+        given = next(k for k, v in encoding.items() if v is not None).replace("_", "-")
+        raise click.BadParameter("goes with a video -o (OUT.mp4 ...)", param_hint=f"--{given}")
     pattern = output_name(render, input, "animate")
     paths = frame_paths(pattern, len(times))
     per_frame = [replace(render, output=p, output_dir=False) for p in paths]
@@ -342,3 +387,34 @@ def animate(
     for t, one in zip(times, per_frame, strict=True):
         out, gpano = _render_frame(src, r.at(t), one, "animate")
         save_output(out, src, one, command="animate", gpano=gpano)
+
+
+def _animate_video(
+    input: Path,
+    render: RenderOptions,
+    r: Any,
+    times: list[float],
+    fps: float,
+    encoding: dict[str, Any],
+) -> None:
+    """``animate ... -o OUT.mp4``: the frames encoded into one video."""
+    from ._common import convert_for_output, load_input
+    from ._files import job
+    from ._video_out import animate_video
+
+    if render.output_dir:
+        raise click.BadParameter("names a directory; give a video file", param_hint="-o")
+    job().writes(render.output, "-o")
+    if render.output.exists() and not render.overwrite:
+        from ..errors import OutputExistsError
+
+        raise OutputExistsError(f"{str(render.output)!r} exists; pass --overwrite to replace it")
+    src = load_input(input, render)
+
+    def render_frame(src: Any, frame: Any, one: RenderOptions) -> Any:
+        out, _ = _render_frame(src, frame, one, "animate")
+        if out.dtype.kind == "f":  # HDR: tone-mapped as for a 16-bit PNG
+            out = convert_for_output(out, Path("frame.png"), one)
+        return out
+
+    animate_video(src, render, r, times, fps, encoding, render_frame)

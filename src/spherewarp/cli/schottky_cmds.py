@@ -188,12 +188,58 @@ def schottky(
     the picture outside D_x, shrunk; looking into D_x you see it from outside
     D_X. With one generator this is the straight Droste effect.
     """
-    from ..errors import InvalidValueError
-    from ..maps.mobius import Mobius
-    from ..maps.schottky import Cap, Schottky, generator_between
     from ._common import load_input, output_name, output_path, save_output
     from .droste_cmds import _check_suffix, frame_paths
 
+    check_generators(generators, twists, mask, targets, regions)
+    if not print_map and mask is not None:
+        from ._files import job
+
+        job().reads(mask, "--mask image")
+    if not print_map:  # every file written, checked before any work
+        if frames is None:
+            _check_suffix(output_path(render, input, "schottky"))
+        else:
+            pattern = output_name(render, input, "schottky")
+            paths = frame_paths(pattern, frames)
+            for p in paths:
+                one = replace(render, output=p, output_dir=False)
+                _check_suffix(output_path(one, input, "schottky", given=str(pattern)))
+
+    s, n_gens = schottky_map(
+        generators, twists, mask, targets, regions, depth, phase, render.max_pixels
+    )
+    if print_map:
+        click.echo(s.to_json())
+        return
+
+    from ..render import warp
+
+    src_img = load_input(input, render)
+    kwargs = render.warp_kwargs(src_img.pixels)
+    s = s.for_output(_output_width(kwargs, src_img.pixels.shape))
+    if frames is None:
+        click.echo(f"schottky: {n_gens} generator(s), depth {s.depth}")
+        save_output(warp(src_img.pixels, s, **kwargs), src_img, render, command="schottky")
+        return
+    from ..effects.droste import animation_phases
+
+    for p in {p.parent for p in paths}:
+        p.mkdir(parents=True, exist_ok=True)
+    click.echo(f"schottky: {n_gens} generator(s), depth {s.depth}, {frames} frames")
+    for p, t in zip(paths, animation_phases(frames, phase), strict=True):
+        r = replace(render, output=p, output_dir=False)
+        save_output(warp(src_img.pixels, s.with_phase(t), **kwargs), src_img, r, command="schottky")
+
+
+def check_generators(
+    generators: tuple[tuple[str, Any, Any], ...],
+    twists: tuple[float, ...],
+    mask: Path | None,
+    targets: tuple[tuple[str, str], ...],
+    regions: str,
+) -> None:
+    """Refuse options of ``schottky`` (and ``video ... schottky``) that do not go together."""
     if mask is not None and not targets:
         raise click.UsageError("--mask needs --target COLOUR WHERE for each disk it holds")
     if targets and mask is None:
@@ -212,22 +258,26 @@ def schottky(
         )
     if twists and not n_pairs:
         raise click.UsageError("--twist goes with 'LON,LAT,R -> LON,LAT,R' generators")
+
+
+def schottky_map(
+    generators: tuple[tuple[str, Any, Any], ...],
+    twists: tuple[float, ...],
+    mask: Path | None,
+    targets: tuple[tuple[str, str], ...],
+    regions: str,
+    depth: int | None,
+    phase: float,
+    max_pixels: int | None = None,
+) -> tuple[Any, int]:
+    """The Schottky map of ``schottky``'s options (checked by :func:`check_generators`) and
+    its number of generators; not yet fitted to an output width (``for_output``)."""
+    from ..errors import InvalidValueError
+    from ..maps.mobius import Mobius
+    from ..maps.schottky import Cap, Schottky, generator_between
+
+    n_pairs = sum(1 for g in generators if g[0] == "disks")
     tw = list(twists) * n_pairs if len(twists) == 1 else list(twists) or [0.0] * n_pairs
-
-    if not print_map and mask is not None:
-        from ._files import job
-
-        job().reads(mask, "--mask image")
-    if not print_map:  # every file written, checked before any work
-        if frames is None:
-            _check_suffix(output_path(render, input, "schottky"))
-        else:
-            pattern = output_name(render, input, "schottky")
-            paths = frame_paths(pattern, frames)
-            for p in paths:
-                one = replace(render, output=p, output_dir=False)
-                _check_suffix(output_path(one, input, "schottky", given=str(pattern)))
-
     gens = []
     k = 0
     for i, (form, disk, other) in enumerate(generators):
@@ -247,7 +297,7 @@ def schottky(
         from ..io.tonemap import parse_color
         from ..maps.schottky import cap_from_mask
 
-        pixels = read_image(mask, max_pixels=render.max_pixels).pixels
+        pixels = read_image(mask, max_pixels=max_pixels).pixels
         colours = []
         for colour, where in targets:
             try:
@@ -281,24 +331,4 @@ def schottky(
         except InvalidValueError as exc:
             hint = " (a larger zoom, or --regions round)" if "disjoint" in str(exc) else ""
             raise InvalidValueError(f"--mask/--target: {exc}{hint}") from None
-    if print_map:
-        click.echo(s.to_json())
-        return
-
-    from ..render import warp
-
-    src_img = load_input(input, render)
-    kwargs = render.warp_kwargs(src_img.pixels)
-    s = s.for_output(_output_width(kwargs, src_img.pixels.shape))
-    if frames is None:
-        click.echo(f"schottky: {len(gens)} generator(s), depth {s.depth}")
-        save_output(warp(src_img.pixels, s, **kwargs), src_img, render, command="schottky")
-        return
-    from ..effects.droste import animation_phases
-
-    for p in {p.parent for p in paths}:
-        p.mkdir(parents=True, exist_ok=True)
-    click.echo(f"schottky: {len(gens)} generator(s), depth {s.depth}, {frames} frames")
-    for p, t in zip(paths, animation_phases(frames, phase), strict=True):
-        r = replace(render, output=p, output_dir=False)
-        save_output(warp(src_img.pixels, s.with_phase(t), **kwargs), src_img, r, command="schottky")
+    return s, len(gens)

@@ -54,7 +54,7 @@ class _EffectGroup(click.Group):
         "spherewarp video still-tb.jpg --stereo tb -o turned.jpg rotate --yaw 90",
     ),
 )
-@click.argument("input", type=click.Path(path_type=Path, dir_okay=False))
+@click.argument("input", nargs=-1, required=True, type=click.Path(path_type=Path, dir_okay=False))
 @click.option(
     "-o",
     "--output",
@@ -143,7 +143,7 @@ class _EffectGroup(click.Group):
     "the input and the output's folder must be at the same path on every worker.",
 )
 @click.pass_context
-def video(ctx: click.Context, input: Path, output: Path, **options: Any) -> None:
+def video(ctx: click.Context, input: tuple[Path, ...], output: Path, **options: Any) -> None:
     """Apply an effect to every frame of a 360° video.
 
     Decodes and encodes with FFmpeg's libraries (PyAV). Each frame keeps its
@@ -158,7 +158,16 @@ def video(ctx: click.Context, input: Path, output: Path, **options: Any) -> None
     -o may be image sequences (frames/%05d.png, TIFF, EXR; --fps for an
     input sequence), or one image (a stereo still: --stereo tb).
     """
-    ctx.obj = {"input": input, "output": output, **options}
+    if len(input) > 1 and ctx.invoked_subcommand not in _SEVERAL_INPUTS:
+        raise click.UsageError(
+            f"{ctx.invoked_subcommand or 'the effect'} takes one INPUT, got {len(input)} "
+            f"(several clips go with {' or '.join(sorted(_SEVERAL_INPUTS))})"
+        )
+    ctx.obj = {"input": input[0], "inputs": input, "output": output, **options}
+
+
+#: the subcommands that take several input clips (spherewarp.cli.video_effects)
+_SEVERAL_INPUTS = {"splitscreen"}
 
 
 #: the output grid's options, named as RenderOptions names them
@@ -575,8 +584,13 @@ def video_recipe(ctx: click.Context, recipe: Path, output_: Any, overwrite_: boo
     from ._files import job
 
     job().reads(recipe, "the recipe")
-    r = Recipe.load(recipe)
-    _check_recipe_fits(r, recipe, ctx.obj)
+    run_recipe(ctx, Recipe.load(recipe), recipe, output_, overwrite_)
+
+
+def run_recipe(ctx: click.Context, r: Any, path: Any, output_: Any, overwrite_: bool) -> None:
+    """Render the parent's INPUT through the recipe ``r`` (read from ``path``, or what names
+    it in messages), as ``video ... recipe R.json`` does."""
+    _check_recipe_fits(r, path, ctx.obj)
     keys = ("interp", "antialias", "supersample")
     build = {k: v for k, v in r.at(0.0).warp_kwargs.items() if k in keys}
     if build.get("supersample") == 1:
@@ -615,3 +629,6 @@ def _check_recipe_fits(r: Any, path: Path, o: dict[str, Any]) -> None:
             'so its end would never be shown; shorten its "duration" (or its keyframes) '
             "to the clip's"
         )
+
+
+from . import video_effects  # noqa: E402, F401 - the effects generated from the still commands

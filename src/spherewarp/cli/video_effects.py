@@ -1,0 +1,380 @@
+"""The ``spherewarp video`` subcommands made from the still commands.
+
+``droste``, ``lattes`` and ``map`` are generated: each takes the still command's
+own options for the fields of its recipe step (:data:`spherewarp.recipe.effects.EFFECTS`;
+the same click options, so the same parsing, defaults and help), runs the
+still command to build its recipe step (as ``--save-recipe --dry-run`` would,
+:func:`~spherewarp.cli.recipe_cmds.capturing_recipe`) and renders the video
+through that recipe, as ``spherewarp video IN -o OUT recipe R.json`` does: frame
+k equals ``spherewarp render R.json`` of frame k. An effect with a ``phase``
+(the Droste flight) also takes ``--loop S``: the phase runs from its value to
+one more in S seconds, over and over.
+
+``schottky`` (no recipe step yet) builds its map with the still command's
+:func:`~spherewarp.cli.schottky_cmds.schottky_map`; ``project --to NAME``
+renders every frame into a view; ``splitscreen`` combines several clips
+(:mod:`spherewarp.io.multiclip`).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Any
+
+import click
+
+from ._common import SIZE, RealType
+from .video_cmds import _grid, _Pose, _run, run_recipe, video
+from .video_cmds import _outputs as _video_outputs
+
+__all__ = ["GENERATED"]
+
+LOOP = RealType("a duration in seconds", "2.5", metavar="S", gt=0, le=86400)
+
+#: video subcommand -> the still command it is made from ("module:function")
+GENERATED = {
+    "droste": "droste_cmds:droste",
+    "lattes": "elliptic_cmds:lattes",
+    "map": "branched_cmds:map_cmd",
+}
+
+
+def _outputs(func: Any) -> Any:
+    """-o, --overwrite and --size after the effect too (``video IN droste ... --size WxH``)."""
+    func = click.option("--size", "size_", type=SIZE, hidden=True)(func)
+    return _video_outputs(func)
+
+
+def _size_after(ctx: click.Context, size: tuple[int, int] | None) -> None:
+    """A --size given after the effect: the output's, as before it."""
+    if size is not None:
+        ctx.obj["size"] = size
+
+
+def _still(target: str) -> click.Command:
+    import importlib
+
+    module, attr = target.split(":")
+    return getattr(importlib.import_module(f"{__package__}.{module}"), attr)
+
+
+def _loop_option(what: str) -> Any:
+    return click.option(
+        "--loop",
+        type=LOOP,
+        help=f"Fly on: the phase runs from --phase to one more in S seconds, over and over "
+        f"({what}); without it the map does not change over time.",
+    )
+
+
+def recipe_of_command(ctx: click.Context, still: click.Command, values: dict[str, Any]) -> Any:
+    """The recipe data ``still`` (an effect command) builds for the option ``values``, as
+    ``--save-recipe R.json --dry-run`` writes it (checked as the command checks them)."""
+    from .recipe_cmds import capturing_recipe
+
+    with capturing_recipe() as got:
+        ctx.invoke(still, input=(), dry_run=True, save_recipe=None, **values)
+    if len(got) != 1:  # pragma: no cover - every generated command saves one recipe
+        raise RuntimeError(f"{still.name} built {len(got)} recipes")
+    return got[0]
+
+
+def looped(data: dict[str, Any], effect: str, seconds: float) -> dict[str, Any]:
+    """``data`` with the effect's phase running from its value to one more in ``seconds``,
+    a loop (the recipe ``spherewarp droste --frames`` saves, stretched to ``seconds``).
+
+    Examples
+    --------
+    >>> d = {"steps": [{"droste": {"phase": 0.25}}]}
+    >>> looped(d, "droste", 2.0)["steps"][0]["droste"]["phase"]
+    {'keyframes': [[0, 0.25], [2.0, 1.25]]}
+    """
+    step = dict(data["steps"][0][effect])
+    start = float(step.get("phase", 0.0))
+    step["phase"] = {"keyframes": [[0, start], [seconds, start + 1]]}
+    return {**data, "duration": seconds, "loop": True, "steps": [{effect: step}]}
+
+
+def _generate(name: str, target: str) -> click.Command:
+    from ..recipe.effects import EFFECTS
+
+    still = _still(target)
+    effect = EFFECTS[name]
+    fields = set(effect.params)
+    params = [p for p in still.params if p.name in fields]  # the still command's own options
+    timed = "phase" in fields
+
+    def callback(
+        output_: Any, overwrite_: bool, size_: Any, loop: float | None = None, **values: Any
+    ) -> None:
+        from ..recipe import Recipe
+
+        ctx = click.get_current_context()
+        _size_after(ctx, size_)
+        data = recipe_of_command(ctx, still, values)
+        label: Any = f"video ... {name}"
+        if loop is not None:
+            data, label = looped(data, name, loop), "--loop"
+        run_recipe(ctx, Recipe.from_dict(data), label, output_, overwrite_)
+
+    summary = (still.help or "").strip().split("\n")[0].rstrip(".")
+    help_text = (
+        f"{summary}, on every frame: the options of `spherewarp {still.name}`, whose recipe "
+        f"step renders each frame (frame k equals `spherewarp {still.name}` of frame k)."
+    )
+    command = click.Command(
+        name, callback=callback, params=params, help=help_text, short_help=effect.summary
+    )
+    if timed:
+        command = _loop_option("the Droste flight, as --frames does for a still")(command)
+    return _outputs(command)
+
+
+for _name, _target in GENERATED.items():
+    video.add_command(_generate(_name, _target))
+
+
+# -- schottky: the still command's options and map --------------------------------------------
+def _copied(target: str, names: tuple[str, ...]) -> Any:
+    """A decorator adding the options ``names`` of the still command ``target``."""
+
+    def decorate(command: click.Command) -> click.Command:
+        have = {p.name: p for p in _still(target).params}
+        command.params[:0] = [have[n] for n in names]
+        return command
+
+    return decorate
+
+
+def _eye_width(o: dict[str, Any]) -> int:
+    """The width of one eye's equirectangular output for the Schottky map's depth (the
+    still command's rule: as fine as the output's finest pixels)."""
+    from ..io.sequence import frames_of, is_frames
+    from ..io.stereo import eye_shape
+    from ..io.video import probe, stereo_layout
+    from .schottky_cmds import _output_width
+
+    if is_frames(o["input"]):
+        from ..io import read_image
+
+        shape = read_image(frames_of(o["input"])[0]).pixels.shape[:2]
+        eye = eye_shape(shape, o["stereo"] or "mono")
+    else:
+        info = probe(o["input"])
+        eye = eye_shape((info.height, info.width), stereo_layout(info, o["stereo"]))
+    grid, out_shape = _grid(o, None)
+    kwargs = {"grid": grid(eye)} if grid is not None else {"output_shape": out_shape}
+    return _output_width(kwargs, eye)
+
+
+@_copied(
+    "schottky_cmds:schottky",
+    ("generators", "twists", "depth", "phase", "mask", "targets", "regions"),
+)
+@click.command("schottky", short_help="a Schottky group image (several Droste effects at once)")
+@_loop_option("a zoom through the first generator's disks")
+@_outputs
+@click.pass_context
+def video_schottky(
+    ctx: click.Context,
+    generators: tuple[tuple[str, Any, Any], ...],
+    twists: tuple[float, ...],
+    depth: int | None,
+    phase: float,
+    mask: Path | None,
+    targets: tuple[tuple[str, str], ...],
+    regions: str,
+    loop: float | None,
+    output_: Any,
+    overwrite_: bool,
+    size_: Any,
+) -> None:
+    """A Schottky group image on every frame, with the options of `spherewarp schottky`
+    (frame k equals `spherewarp schottky` of frame k; --loop S: the --frames loop, S seconds
+    a turn)."""
+    _size_after(ctx, size_)
+    from ._files import job
+    from .schottky_cmds import check_generators, schottky_map
+
+    check_generators(generators, twists, mask, targets, regions)
+    if mask is not None:
+        job().reads(mask, "--mask image")
+    s, _ = schottky_map(generators, twists, mask, targets, regions, depth, phase)
+    s = s.for_output(_eye_width(ctx.obj))
+    maps: dict[float, Any] = {}
+
+    def frame_map(t: float) -> tuple[Any, dict[str, Any]]:
+        if loop is None:
+            return s, {}
+        key = round((t / loop) % 1.0, 12)
+        if key not in maps:  # a frame's phase: planned once however often it comes round
+            maps.clear()
+            maps[key] = s.with_phase(phase + key)
+        return maps[key], {}
+
+    pose = _Pose(ctx.obj["quiet"])
+    pose.see(None)  # no pose holds after a Schottky map
+    _run(ctx, None, output_, overwrite_, frame_map=frame_map, pose=pose)
+
+
+video.add_command(video_schottky)
+
+
+# -- project --to: every frame into a view -----------------------------------------------------
+@_copied("views_cmds:project", ("to", "look_at", "roll"))
+@click.command("project", short_help="every frame into another grid (a little planet, a view)")
+@_outputs
+@click.pass_context
+def video_project(
+    ctx: click.Context,
+    to: str | None,
+    look_at: tuple[float, float] | None,
+    roll: float,
+    output_: Any,
+    overwrite_: bool,
+    size_: Any,
+) -> None:
+    """Reproject every frame into another grid, as `spherewarp project --to NAME` does
+    (bicubic): little-planet, rectilinear, fisheye, cubemap, ... (--size: the view's size)."""
+    _size_after(ctx, size_)
+    from ..maps import Mobius
+
+    o = ctx.obj
+    if to is None:
+        raise click.UsageError("give the grid to project into with --to NAME")
+    if o.get("projection") is not None:
+        raise click.UsageError("project takes --to, not --projection")
+    if look_at is not None and o.get("view_at") is not None:
+        raise click.UsageError("give --look-at or --view-at, not both")
+    o["projection"] = to.lower()
+    o["view_at"] = look_at if look_at is not None else o.get("view_at")
+    o["view_roll"] = roll + (o.get("view_roll") or 0.0)
+    _run(ctx, Mobius.identity(), output_, overwrite_, build={"interp": "bicubic"})
+
+
+video.add_command(video_project)
+
+
+# -- splitscreen: several clips ------------------------------------------------------------------
+@_copied(
+    "branched_cmds:splitscreen",
+    ("cover", "n", "lam", "branch_points", "seam", "feather", "look_at"),
+)
+@click.command(
+    "splitscreen", short_help="several clips on the sheets of a branched cover (INPUT1 INPUT2 ...)"
+)
+@_outputs
+@click.pass_context
+def video_splitscreen(
+    ctx: click.Context,
+    cover: str,
+    n: int | None,
+    lam: float,
+    branch_points: Any,
+    seam: str | float,
+    feather: float,
+    look_at: tuple[float, float] | None,
+    output_: Any,
+    overwrite_: bool,
+    size_: Any,
+) -> None:
+    """Combine clips filmed from one spot, frame by frame, on the sheets of a branched cover,
+    as `spherewarp splitscreen` combines stills: `spherewarp video a.mp4 b.mp4 -o out.mp4
+    splitscreen`. The clips are decoded in lock-step and need one frame rate; the shortest
+    ends the output (a note says so). The first clip's frame times and audio are kept. An
+    --seam auto is chosen on the first frames and kept for the whole video."""
+    _size_after(ctx, size_)
+    import spherewarp.effects.splitscreen as ss
+
+    from ..io.multiclip import render_clips
+    from ..io.sequence import is_frames
+    from ..io.spherical import Spherical
+    from ..io.stereo import is_panorama, resolve_grid
+    from ..io.video import VIDEO_EXTENSIONS
+    from ._files import job
+    from .branched_cmds import EXP_SUPERSAMPLE, _look_at
+    from .video_cmds import _Bar
+
+    o = ctx.obj
+    if output_ is not None:
+        o["output"] = output_
+    o["overwrite"] = o["overwrite"] or overwrite_
+    inputs = list(o["inputs"])
+    cover = cover.lower()
+    if len(inputs) < 2:
+        raise click.UsageError("splitscreen combines several clips: video A.mp4 B.mp4 -o OUT ...")
+    if o["output"] is None:
+        raise click.UsageError("give the video to write with -o OUT.mp4")
+    if n is not None and cover != "power":
+        raise click.UsageError("--n applies to --cover power only")
+    if n is not None and n % len(inputs):
+        raise click.BadParameter(
+            f"expected a multiple of the number of inputs ({len(inputs)}), got {n}",
+            param_hint="'--n'",
+        )
+    for name in ("fps",):
+        if o.get(name) is not None:
+            raise click.BadParameter("applies to an image sequence input", param_hint="--fps")
+    if (o.get("stereo") or "mono").lower() != "mono":
+        raise click.BadParameter("splitscreen takes mono clips", param_hint="--stereo")
+    if any(is_frames(p) for p in [*inputs, o["output"]]):
+        from ..errors import ImageFormatError
+
+        raise ImageFormatError("splitscreen reads and writes videos, not image sequences")
+    if o["output"].suffix.lower() not in VIDEO_EXTENSIONS:
+        from ..errors import ImageFormatError
+
+        raise ImageFormatError(
+            f"cannot write '{o['output']}': unknown video extension "
+            f"{o['output'].suffix or '(none)'!r}; use one of {', '.join(VIDEO_EXTENSIONS)} with -o"
+        )
+    for k, path in enumerate(inputs):
+        job().reads(path, f"input {k + 1}")
+    job().writes(o["output"], "-o")
+    options: dict[str, Any] = {
+        "cover": cover, "n": n, "lam": lam, "branch_points": branch_points or None,
+        "force": o["force"],
+    }  # fmt: skip
+    grid_of, out_shape = _grid(o, None)
+    state: dict[str, Any] = {"seam": seam}
+    quiet = o["quiet"]
+
+    def combine(frames: list[Any]) -> Any:
+        if state["seam"] == "auto":
+            state["seam"] = ss.auto_seam(frames, feather_deg=feather, **options)
+            if not quiet:
+                click.echo(f"seam: input meridian at longitude {state['seam']:.1f} (auto)")
+        eye = frames[0].shape[:2]
+        return ss.splitscreen(
+            frames,
+            seam=float(state["seam"]),
+            feather_deg=feather,
+            view=_look_at(look_at),
+            output_shape=out_shape,
+            grid=resolve_grid(grid_of, eye) if grid_of is not None else None,
+            supersample=EXP_SUPERSAMPLE if cover == "exp" else 1,
+            **options,
+        )
+
+    if grid_of is None:
+        panorama = True
+    else:
+        from ..io.video import probe
+
+        first = probe(inputs[0])
+        panorama = is_panorama(resolve_grid(grid_of, (first.height, first.width)))
+    bar = _Bar(enabled=not quiet and sys.stderr.isatty())
+    try:
+        n_done = render_clips(
+            inputs, o["output"], combine, codec=o["codec"], crf=o["crf"], preset=o["preset"],
+            pix_fmt=o["pix_fmt"], overwrite=o["overwrite"], force=o["force"],
+            spherical=Spherical() if panorama else None, progress=bar,
+            note=lambda text: click.echo(f"spherewarp: note: {text}", err=True),
+        )  # fmt: skip
+    finally:
+        bar.close()
+    click.echo(f"wrote {o['output']} ({n_done} frames)")
+
+
+video.add_command(video_splitscreen)

@@ -1,0 +1,70 @@
+"""``spherewarp view``: the browser viewer and editor."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from ._common import example
+
+__all__ = ["view"]
+
+
+@click.command(
+    epilog=example(
+        "spherewarp view room.jpg",
+        "spherewarp view room.jpg --recipe zoom.json --port 8360 --no-browser",
+    )
+)
+@click.argument(
+    "image", required=False, type=click.Path(exists=True, dir_okay=False, path_type=Path)
+)
+@click.option(
+    "--recipe",
+    type=click.Path(exists=True, dir_okay=False, path_type=Path),
+    metavar="R.json",
+    help="Start from this recipe (the page edits it; 'Save' downloads the edited one).",
+)
+@click.option(
+    "--port", type=click.IntRange(0, 65535), default=0, help="Port (default: a free one)."
+)
+@click.option(
+    "--host",
+    default="127.0.0.1",
+    show_default=True,
+    help="Address to listen on; anything but loopback makes the page reachable from "
+    "other machines.",
+)
+@click.option("--no-browser", is_flag=True, help="Print the URL only; do not open a browser.")
+def view(image: Path | None, recipe: Path | None, port: int, host: str, no_browser: bool) -> None:
+    """Show IMAGE in the browser, with live conformal effects on the GPU.
+
+    Drag a point to move the panorama by the Möbius map that takes it to the
+    cursor (two pinned points stay fixed); Ctrl + wheel zooms conformally at
+    the cursor. The page edits a recipe: save it, copy it as a command, or
+    render it at full resolution with the Python renderer. Ctrl-C stops.
+    """
+    from ..viewer.server import ViewerServer
+
+    if host not in ("127.0.0.1", "localhost", "::1"):
+        click.echo(
+            f"spherewarp: warning: listening on {host}, not loopback: other machines can "
+            "reach this page",
+            err=True,
+        )
+    try:
+        srv = ViewerServer(image, recipe, host=host, port=port)
+    except OSError as exc:
+        raise click.BadParameter(
+            f"cannot listen on {host}:{port}: {exc.strerror or exc}", param_hint="'--port'"
+        ) from None
+    click.echo(f"spherewarp view: {srv.url}  (Ctrl-C stops)", nl=True)
+    if not no_browser:
+        import webbrowser
+
+        webbrowser.open(srv.url)
+    try:
+        srv.wait()
+    finally:
+        srv.close()

@@ -1,0 +1,372 @@
+"""The viewer's local HTTP server: its own assets, one image, a small JSON API.
+
+Routes
+------
+``GET /``, ``GET /assets/...``
+    The bundled page (``static/``); nothing outside that folder.
+``GET /image``
+    The image the server was started with, as an 8-bit PNG (any input format).
+``GET /testpattern``
+    The paper's test pattern (:func:`spherewarp.testpattern.make_test_pattern`,
+    1024x512), for the page's overlay.
+``GET /api/state``
+    ``{"recipe", "image": {"width", "height", "name"}, "stages", "glsl_header",
+    "table"}``: the recipe the server was started with, its map packed as
+    compiled stages (:func:`packed_stages`), and the stage table for the shader.
+``POST /api/stages``
+    A recipe in, its packed stages out (400 with the recipe's error line).
+``POST /api/render``
+    A recipe in; renders it at full resolution with the Python renderer in a
+    thread; ``{"job": ID}`` out. ``GET /api/render/ID``: ``{"done", "progress",
+    "error"}``; ``GET /api/render/ID/file``: the PNG, as a download.
+
+Security: the ``Host`` header must name the address the server listens on
+(DNS rebinding: 403); an API request with an ``Origin`` (or a cross-site
+``Sec-Fetch-Site``) that is not the server's gets 403; a body over
+:data:`MAX_BODY` gets 413; a path with ``..`` (also URL-encoded) gets 404.
+Renders go to a temporary folder of the server's own, removed on close:
+nothing next to the inputs changes.
+
+Examples
+--------
+>>> import json, urllib.request
+>>> srv = ViewerServer(None, None)
+>>> with urllib.request.urlopen(srv.url + "api/state") as r:
+...     json.load(r)["stages"]["codes"]
+[1]
+>>> srv.close()
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import mimetypes
+import os
+import shutil
+import tempfile
+import threading
+import urllib.parse
+import uuid
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = ["MAX_BODY", "STATIC_DIR", "ViewerServer", "packed_stages"]
+
+#: the folder of the built page (``npm run build`` in ``viewer/`` writes it)
+STATIC_DIR = Path(__file__).with_name("static")
+#: the largest request body read, in bytes (a recipe is at most 1 MB)
+MAX_BODY = 1_000_000
+_LOOPBACK = {"127.0.0.1", "localhost", "::1"}
+_EMPTY = {"spherewarp": 1, "steps": []}
+
+
+def packed_stages(recipe: Any, t: float = 0.0) -> dict[str, Any]:
+    """The recipe's map at time ``t`` as the compiled stages the CPU kernels run.
+
+    Returns ``{"codes": [...], "rows": [[...], ...]}`` (one float row per stage,
+    the layout of :mod:`spherewarp.render.stages`), or ``{"codes": None,
+    "missing": why}`` when some part of the map has no compiled stage.
+
+    Examples
+    --------
+    >>> from spherewarp.recipe import Recipe
+    >>> r = Recipe.from_dict({"spherewarp": 1, "steps": [{"power": {"n": 3}}]})
+    >>> packed_stages(r)["codes"]
+    [2]
+    """
+    from ..render.fast import kernel_spec
+
+    m = recipe.map_at(t)
+    spec = kernel_spec(m)
+    if spec is None:
+        return {
+            "codes": None,
+            "missing": f"{type(m).__name__} has no compiled stage (the shader runs only "
+            "compiled stages; 'spherewarp render' renders it on the CPU)",
+        }
+    return {"codes": spec.codes.tolist(), "rows": spec.params.tolist()}
+
+
+def _png_bytes(pixels: np.ndarray) -> bytes:
+    from PIL import Image
+
+    from ..io.images import convert_dtype
+
+    a = convert_dtype(pixels, "uint8")
+    if a.ndim == 3 and a.shape[2] == 1:
+        a = a[:, :, 0]
+    elif a.ndim == 3 and a.shape[2] == 2:
+        a = np.repeat(a[:, :, :1], 3, axis=2)
+    buf = io.BytesIO()
+    Image.fromarray(np.ascontiguousarray(a)).save(buf, format="PNG", compress_level=1)
+    return buf.getvalue()
+
+
+class _Job:
+    def __init__(self) -> None:
+        self.progress = 0.0
+        self.done = False
+        self.error: str | None = None
+        self.path: Path | None = None
+
+
+class ViewerServer:
+    """The viewer's server, serving in a thread from construction until :meth:`close`.
+
+    Parameters
+    ----------
+    image : path or None
+        The panorama to show (None: the bundled sample).
+    recipe : path or None
+        A recipe to start from (None: no steps).
+    host : str
+        The address to listen on (loopback by default).
+    port : int
+        The port (0: a free one).
+    """
+
+    def __init__(
+        self,
+        image: str | os.PathLike[str] | None,
+        recipe: str | os.PathLike[str] | None,
+        *,
+        host: str = "127.0.0.1",
+        port: int = 0,
+    ) -> None:
+        from ..io.images import read_image
+        from ..recipe import Recipe
+
+        if image is None:
+            image = Path(__file__).parent.parent / "data" / "courtyard.png"
+        self.image_path = Path(image)
+        self.image = read_image(self.image_path)
+        self.image_png = _png_bytes(self.image.pixels)
+        self.recipe = Recipe.load(recipe) if recipe is not None else Recipe.from_dict(_EMPTY)
+        self.jobs: dict[str, _Job] = {}
+        self._pattern: bytes | None = None
+        self.tmp = Path(tempfile.mkdtemp(prefix="spherewarp-view-"))
+        self.httpd = ThreadingHTTPServer((host, port), _Handler)
+        self.httpd.daemon_threads = True
+        self.httpd.viewer = self  # type: ignore[attr-defined]
+        self.host = host
+        self.port = self.httpd.server_address[1]
+        name = f"[{host}]" if ":" in host else host
+        self.allowed_hosts = {f"{name}:{self.port}"}
+        if host in _LOOPBACK:
+            self.allowed_hosts |= {f"{h}:{self.port}" for h in ("127.0.0.1", "localhost")}
+        self.origins = {f"http://{h}" for h in self.allowed_hosts}
+        self.url = f"http://{name}:{self.port}/"
+        self._thread = threading.Thread(target=self.httpd.serve_forever, daemon=True)
+        self._thread.start()
+
+    def close(self) -> None:
+        """Stop serving and remove the rendered files."""
+        self.httpd.shutdown()
+        self.httpd.server_close()
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def wait(self) -> None:
+        """Block until interrupted."""
+        self._thread.join()
+
+    def pattern_png(self) -> bytes:
+        """The test pattern as PNG (made on first use)."""
+        if self._pattern is None:
+            from ..testpattern import make_test_pattern
+
+            self._pattern = _png_bytes(make_test_pattern(1024, 512))
+        return self._pattern
+
+    # -- the API --------------------------------------------------------------------------
+    def state(self) -> dict[str, Any]:
+        from ..render import stages
+
+        h, w = self.image.pixels.shape[:2]
+        return {
+            "recipe": self.recipe.to_dict(),
+            "image": {"width": w, "height": h, "name": self.image_path.name},
+            "stages": packed_stages(self.recipe),
+            "glsl_header": stages.glsl_header(),
+            "table": json.loads(stages.as_json()),
+        }
+
+    def start_render(self, recipe: Any) -> str:
+        job = _Job()
+        key = uuid.uuid4().hex
+        self.jobs[key] = job
+
+        def progress(done: float, total: float | None = None) -> None:
+            job.progress = float(done) / float(total) if total else float(done)
+
+        def work() -> None:
+            from ..io.images import write_image
+
+            try:
+                try:
+                    out = recipe.render(self.image, progress=progress)
+                except TypeError:  # a renderer without progress reporting
+                    out = recipe.render(self.image)
+                pixels = getattr(out, "pixels", out)
+                path = self.tmp / f"{self.image_path.stem}-{key[:8]}.png"
+                write_image(path, pixels, gpano=None)
+                job.path = path
+                job.progress = 1.0
+            except Exception as exc:  # reported to the page, not raised in a thread
+                job.error = f"{type(exc).__name__}: {exc}"
+            finally:
+                job.done = True
+
+        threading.Thread(target=work, daemon=True).start()
+        return key
+
+
+class _Error(Exception):
+    def __init__(self, status: int, message: str) -> None:
+        super().__init__(message)
+        self.status = status
+        self.message = message
+
+
+class _Handler(BaseHTTPRequestHandler):
+    server_version = "spherewarp-view"
+    protocol_version = "HTTP/1.1"
+
+    @property
+    def viewer(self) -> ViewerServer:
+        return self.server.viewer  # type: ignore[attr-defined]
+
+    def log_message(self, format: str, *args: Any) -> None:  # quiet
+        pass
+
+    # -- checks ---------------------------------------------------------------------------
+    def _check_common(self, api: bool) -> None:
+        host = self.headers.get("Host", "")
+        if host.lower() not in self.viewer.allowed_hosts:
+            raise _Error(403, f"Host {host!r} is not this server (DNS rebinding?)")
+        if api:
+            origin = self.headers.get("Origin")
+            if origin is not None and origin.lower() not in self.viewer.origins:
+                raise _Error(403, f"cross-origin request from {origin!r} refused")
+            site = self.headers.get("Sec-Fetch-Site")
+            if site is not None and site not in ("same-origin", "none"):
+                raise _Error(403, f"cross-site request ({site}) refused")
+
+    def _path(self) -> str:
+        raw = urllib.parse.urlsplit(self.path).path
+        path = urllib.parse.unquote(raw)
+        if "\x00" in path or "\\" in path:
+            raise _Error(400, "bad path")
+        if any(part in ("..", ".") for part in path.split("/")):
+            raise _Error(404, "not found")
+        return path
+
+    def _body(self) -> bytes:
+        length = self.headers.get("Content-Length")
+        if length is None:
+            raise _Error(411, "a Content-Length is required")
+        try:
+            n = int(length)
+        except ValueError:
+            raise _Error(400, "bad Content-Length") from None
+        if n < 0:
+            raise _Error(400, "bad Content-Length")
+        if n > MAX_BODY:
+            self.close_connection = True
+            raise _Error(413, f"body of {n} bytes is over the limit of {MAX_BODY} bytes")
+        return self.rfile.read(n)
+
+    def _recipe(self) -> Any:
+        from ..recipe import Recipe, RecipeError
+
+        body = self._body()
+        try:
+            return Recipe.loads(body)
+        except RecipeError as exc:
+            raise _Error(400, f"recipe: {exc}") from None
+        except Exception as exc:  # a builder's own error on odd values
+            raise _Error(400, f"recipe: {exc}") from None
+
+    # -- replies --------------------------------------------------------------------------
+    def _send(self, status: int, body: bytes, ctype: str, extra: dict[str, str] | None = None):
+        self.send_response(status)
+        self.send_header("Content-Type", ctype)
+        self.send_header("Content-Length", str(len(body)))
+        self.send_header("X-Content-Type-Options", "nosniff")
+        self.send_header("Cache-Control", "no-store")
+        for k, v in (extra or {}).items():
+            self.send_header(k, v)
+        self.end_headers()
+        if self.command != "HEAD":
+            self.wfile.write(body)
+
+    def _json(self, data: Any, status: int = 200) -> None:
+        self._send(status, json.dumps(data).encode(), "application/json")
+
+    def _fail(self, err: _Error) -> None:
+        self._json({"error": err.message}, err.status)
+
+    def do_GET(self) -> None:  # noqa: N802
+        try:
+            path = self._path()
+            self._check_common(path.startswith("/api/"))
+            self._get(path)
+        except _Error as err:
+            self._fail(err)
+
+    do_HEAD = do_GET
+
+    def do_POST(self) -> None:  # noqa: N802
+        try:
+            path = self._path()
+            self._check_common(True)
+            if path == "/api/stages":
+                recipe = self._recipe()
+                try:
+                    self._json({"stages": packed_stages(recipe)})
+                except Exception as exc:
+                    raise _Error(400, f"recipe: {exc}") from None
+            elif path == "/api/render":
+                self._json({"job": self.viewer.start_render(self._recipe())})
+            else:
+                raise _Error(404, "not found")
+        except _Error as err:
+            self._fail(err)
+
+    def _get(self, path: str) -> None:
+        v = self.viewer
+        if path == "/api/state":
+            return self._json(v.state())
+        if path == "/image":
+            return self._send(200, v.image_png, "image/png")
+        if path == "/testpattern":
+            return self._send(200, v.pattern_png(), "image/png")
+        if path.startswith("/api/render/"):
+            parts = path[len("/api/render/") :].split("/")
+            job = v.jobs.get(parts[0])
+            if job is None or len(parts) > 2 or (len(parts) == 2 and parts[1] != "file"):
+                raise _Error(404, "no such render")
+            if len(parts) == 1:
+                return self._json({"done": job.done, "progress": job.progress, "error": job.error})
+            if job.path is None:
+                raise _Error(409, "the render is not done")
+            return self._send(
+                200,
+                job.path.read_bytes(),
+                "image/png",
+                {"Content-Disposition": f'attachment; filename="{job.path.name}"'},
+            )
+        if path.startswith("/api/"):
+            raise _Error(404, "not found")
+        rel = "index.html" if path in ("/", "/index.html") else path.lstrip("/")
+        root = STATIC_DIR.resolve()
+        target = (root / rel).resolve()
+        if root not in target.parents or not target.is_file():
+            raise _Error(404, "not found")
+        ctype = mimetypes.guess_type(target.name)[0] or "application/octet-stream"
+        if target.suffix == ".js":
+            ctype = "text/javascript"
+        self._send(200, target.read_bytes(), ctype)

@@ -1,0 +1,245 @@
+"""The page in a real headless browser: Playwright driving Debian's chromium, with
+SwiftShader's software WebGL (``--use-angle=swiftshader``).
+
+Skipped, with the reason, when the ``playwright`` package or a chromium is missing
+(CI installs both). One browser for the module: each start costs seconds.
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from spherewarp.coords import pixel_from_lonlat_deg
+from spherewarp.io.images import read_image
+from spherewarp.recipe import Recipe
+from spherewarp.viewer.server import ViewerServer
+
+W, H = 256, 128
+ARGS = ["--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
+
+
+def find_chromium() -> str | None:
+    """Debian's chromium (Playwright cannot download its own browser here)."""
+    for name in (os.environ.get("SPHEREWARP_CHROMIUM"), "/usr/bin/chromium", "chromium"):
+        if name and (shutil.which(name) or (os.path.isfile(name) and os.access(name, os.X_OK))):
+            return shutil.which(name) or name
+    return None
+
+
+@pytest.fixture(scope="module")
+def browser():
+    sync_api = pytest.importorskip(
+        "playwright.sync_api", reason="the 'playwright' package is not installed (test extra)"
+    )
+    exe = find_chromium()
+    if exe is None:
+        pytest.skip("no chromium found (apt-get install chromium, or set SPHEREWARP_CHROMIUM)")
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=exe, args=ARGS)
+        yield b
+        b.close()
+
+
+@pytest.fixture(scope="module")
+def served():
+    srv = ViewerServer(None, None)
+    yield srv
+    srv.close()
+
+
+@pytest.fixture(scope="module")
+def page(browser, served):
+    pg = browser.new_page(viewport={"width": 1000, "height": 600})
+    pg.goto(served.url + f"?view=flat&size={W}x{H}")
+    pg.wait_for_function(
+        "window.spherewarp && (window.spherewarp.ready || window.spherewarp.error)"
+    )
+    assert pg.evaluate("window.spherewarp.error") is None
+    yield pg
+    pg.close()
+
+
+def shown(page) -> np.ndarray:
+    """The canvas as the page shows it (RGB, float)."""
+    url = page.evaluate("document.getElementById('view').toDataURL('image/png')")
+    im = Image.open(io.BytesIO(base64.b64decode(url.split(",", 1)[1]))).convert("RGB")
+    return np.asarray(im).astype(np.float64)
+
+
+def set_recipe(page, recipe) -> None:
+    page.evaluate(
+        "r => { window.spherewarp.setRecipe(r); return window.spherewarp.settle(); }", recipe
+    )
+
+
+def psnr(a: np.ndarray, b: np.ndarray) -> float:
+    mse = float(np.mean((a - b) ** 2))
+    return math_inf() if mse == 0 else 10 * np.log10(255.0**2 / mse)
+
+
+def math_inf() -> float:
+    return float("inf")
+
+
+def cpu(served, recipe) -> np.ndarray:
+    out = Recipe.from_dict({**recipe, "view": {"size": [W, H]}}).render(
+        read_image(served.image_path)
+    )
+    return np.asarray(getattr(out, "pixels", out))[..., :3].astype(np.float64)
+
+
+#: a recipe for every effect with a compiled stage (Schottky: see test_schottky)
+RECIPES = {
+    "rotate": [{"rotate": {"yaw": 30, "pitch": 10}}],
+    "zoom": [{"zoom": {"at": [20, 10], "factor": 3}}],
+    "mobius": [
+        {"mobius": {"from": [[0, 0], [90, 0], [0, 90]], "to": [[30, 15], [90, 0], [0, 90]]}}
+    ],
+    "power": [{"power": {"n": 3}}],
+    "exp": [{"exp": {"lam": 4}}],
+    "lattes": [{"lattes": {"alpha": "1+i"}}],
+    "lattes-hex": [{"lattes": {"alpha": "2", "lattice": "hex"}}],
+    "droste": [{"droste": {"center": [0, 0], "inner_radius": 20}}],
+    "droste-twisted": [{"droste": {"center": [0, 0], "inner_radius": 20, "twist": True}}],
+    # the seam (lon 180) through the middle, and a map that shrinks at the pole
+    "seam": [{"rotate": {"yaw": 180}}],
+    "pole": [{"zoom": {"at": [0, 88], "factor": 0.25}}],
+    "composed": [{"zoom": {"at": [-40, 20], "factor": 2}}, {"power": {"n": 2}}],
+}
+
+
+@pytest.mark.parametrize("name", list(RECIPES))
+def test_flat_view_equals_the_python_renderer(page, served, name):
+    recipe = {"spherewarp": 1, "steps": RECIPES[name]}
+    set_recipe(page, recipe)
+    got = shown(page)
+    assert got.shape == (H, W, 3)
+    value = psnr(got, cpu(served, recipe))
+    print(f"{name}: PSNR {value:.2f} dB")
+    assert value >= 35, f"{name}: PSNR {value:.2f} dB"
+
+
+def test_an_expression_map_says_what_is_missing(page):
+    set_recipe(page, {"spherewarp": 1, "steps": [{"map": {"expr": "z**2 + 1/z"}}]})
+    assert "no compiled stage" in page.text_content("#status")
+
+
+def test_drag_moves_the_point_under_the_cursor(page, served, tmp_path):
+    base = {"spherewarp": 1, "steps": [{"zoom": {"at": [30, 10], "factor": 1.5}}]}
+    set_recipe(page, base)
+    pins = [[-120.0, 40.0], [100.0, -30.0]]
+    page.evaluate("p => { window.spherewarp.S.pins = p; }", pins)
+    box = page.locator("#view").bounding_box()
+    assert round(box["width"]) == W  # one CSS pixel a canvas pixel
+    a, b = (100.0, 60.0), (140.0, 45.0)  # canvas pixels
+    page.mouse.move(box["x"] + a[0], box["y"] + a[1])
+    page.mouse.down()
+    for k in range(1, 6):
+        page.mouse.move(
+            box["x"] + a[0] + (b[0] - a[0]) * k / 5, box["y"] + a[1] + (b[1] - a[1]) * k / 5
+        )
+    page.mouse.up()
+    page.evaluate("window.spherewarp.settle()")
+    with page.expect_download() as dl:
+        page.click("#save")
+    saved = tmp_path / "saved.json"
+    dl.value.save_as(saved)
+    new = Recipe.load(saved)
+    old = Recipe.from_dict(base)
+    inv = new.map_at(0).as_mobius().inverse()
+    lonlat_a = [a[0] / W * 360 - 180, 90 - a[1] / H * 180]
+    # the source point under the cursor at the press is now under the cursor's release
+    src = old.map_at(0).apply_lonlat(np.array(lonlat_a))
+    moved = pixel_from_lonlat_deg(inv.apply_lonlat(src), W, H)
+    err = np.hypot((moved[0] - b[0] + W / 2) % W - W / 2, moved[1] - b[1])
+    print(f"drag error {err:.3f} px")
+    assert err <= 2.0
+    for pin in pins:
+        at = pixel_from_lonlat_deg(
+            inv.apply_lonlat(old.map_at(0).apply_lonlat(np.array(pin))), W, H
+        )
+        want = pixel_from_lonlat_deg(np.array(pin), W, H)
+        assert np.hypot((at[0] - want[0] + W / 2) % W - W / 2, at[1] - want[1]) <= 2.0
+    # the saved recipe replayed by 'spherewarp render' gives the image the page showed
+    out = tmp_path / "replay.png"
+    cmd = [sys.executable, "-m", "spherewarp", "render", str(saved), str(served.image_path)]
+    subprocess.run([*cmd, "-o", str(out), "--size", f"{W}x{H}"], check=True, capture_output=True)
+    replay = np.asarray(Image.open(out).convert("RGB")).astype(np.float64)
+    value = psnr(shown(page), replay)
+    print(f"drag replay PSNR {value:.2f} dB")
+    assert value >= 35
+
+
+def test_views_url_and_undo(page):
+    set_recipe(page, {"spherewarp": 1, "steps": [{"zoom": {"at": [0, 0], "factor": 2}}]})
+    set_recipe(page, {"spherewarp": 1, "steps": [{"power": {"n": 2}}]})
+    q = page.evaluate("new URLSearchParams(location.search).get('recipe')")
+    assert json.loads(q)["steps"] == [{"power": {"n": 2}}]
+    page.click("#undo")
+    page.evaluate("window.spherewarp.settle()")
+    assert page.evaluate("window.spherewarp.S.recipe.steps") == [
+        {"zoom": {"at": [0, 0], "factor": 2}}
+    ]
+    page.click("#redo")
+    page.evaluate("window.spherewarp.settle()")
+    for view in ("sphere", "planet", "flat"):
+        page.click(f"#v-{view}")
+        img = shown(page)
+        assert np.isfinite(img).all() and img.std() > 10, view
+        assert page.evaluate("new URLSearchParams(location.search).get('view')") == view
+    # Ctrl + wheel: a conformal zoom at the cursor (a zoom step, not a field of view)
+    box = page.locator("#view").bounding_box()
+    page.mouse.move(box["x"] + 64, box["y"] + 32)
+    page.keyboard.down("Control")
+    page.mouse.wheel(0, -100)
+    page.keyboard.up("Control")
+    page.evaluate("window.spherewarp.settle()")
+    last = page.evaluate("window.spherewarp.S.recipe.steps.at(-1)")
+    assert last["zoom"]["at"] == [-90, 45] and last["zoom"]["factor"] > 1
+    # the test pattern overlay, pulled back by the same map
+    before = shown(page)
+    page.locator("#overlay").fill("1")
+    page.wait_for_function("window.spherewarp.S.overlay === 1")
+    page.evaluate("window.spherewarp.draw()")
+    assert np.abs(shown(page) - before).mean() > 5
+    page.locator("#overlay").fill("0")
+    page.wait_for_function("window.spherewarp.S.overlay === 0")
+    page.click("#copy")
+    assert "spherewarp render recipe.json courtyard.png -o out.png --size 256x128" in (
+        page.input_value("#cli")
+    )
+
+
+def test_schottky_stage(page, served):
+    """No recipe effect makes a Schottky group yet: its packed stages go to the page
+    directly, as the server packs a recipe's."""
+    from spherewarp.maps import Schottky
+    from spherewarp.render import warp
+    from spherewarp.viewer.server import packed_stages
+
+    class _One:  # packed_stages takes anything with map_at
+        def __init__(self, m):
+            self.m = m
+
+        def map_at(self, t):
+            return self.m
+
+    m = Schottky.from_disk_pairs([((0, 0, 20), (180, 0, 20)), ((90, 30, 25), (-90, -30, 25))])
+    st = packed_stages(_One(m))
+    assert 6 in st["codes"]
+    page.evaluate("st => window.spherewarp.setStages(st)", st)
+    out = warp(read_image(served.image_path), m, output_shape=(H, W))
+    want = np.asarray(getattr(out, "pixels", out))[..., :3].astype(np.float64)
+    value = psnr(shown(page), want)
+    print(f"schottky: PSNR {value:.2f} dB")
+    assert value >= 35

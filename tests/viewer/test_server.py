@@ -1,0 +1,218 @@
+"""The viewer's server, against a running instance: the API and every security case."""
+
+from __future__ import annotations
+
+import http.client
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from spherewarp.viewer.server import MAX_BODY, STATIC_DIR, ViewerServer
+
+
+def _snapshot(root: Path) -> dict[str, float]:
+    return {str(p): p.stat().st_mtime_ns for p in root.rglob("*")}
+
+
+@pytest.fixture(scope="module")
+def served(tmp_path_factory):
+    d = tmp_path_factory.mktemp("view")
+    img = d / "pano.png"
+    rng = np.random.default_rng(1)
+    Image.fromarray(rng.integers(0, 255, (32, 64, 3), dtype=np.uint8)).save(img)
+    (d / "secret.txt").write_text("do not serve")
+    srv = ViewerServer(img, None)
+    yield srv, d
+    srv.close()
+
+
+def _req(srv, method, path, body=None, headers=None):
+    c = http.client.HTTPConnection("127.0.0.1", srv.port, timeout=10)
+    h = {"Host": f"127.0.0.1:{srv.port}"}
+    h.update(headers or {})
+    c.putrequest(method, path, skip_host=True, skip_accept_encoding=True)
+    for k, v in h.items():
+        c.putheader(k, v)
+    if body is not None:
+        c.putheader("Content-Length", str(len(body)))
+    c.endheaders()
+    if body is not None:
+        c.send(body)
+    r = c.getresponse()
+    data = r.read()
+    c.close()
+    return r.status, data, r
+
+
+def test_state_and_assets(served):
+    srv, _ = served
+    status, data, _ = _req(srv, "GET", "/api/state")
+    state = json.loads(data)
+    assert status == 200
+    assert state["image"] == {"width": 64, "height": 32, "name": "pano.png"}
+    assert "#define STAGE_MOBIUS 1" in state["glsl_header"]
+    assert state["stages"]["codes"] == [1]
+    status, data, r = _req(srv, "GET", "/image")
+    assert status == 200 and r.getheader("Content-Type") == "image/png"
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    status, data, _ = _req(srv, "GET", "/testpattern")
+    assert status == 200 and data[:4] == b"\x89PNG"
+    status, data, _ = _req(srv, "GET", "/")
+    assert status == 200 and data == (STATIC_DIR / "index.html").read_bytes()
+
+
+def test_stages_of_a_posted_recipe(served):
+    srv, _ = served
+    recipe = {
+        "spherewarp": 1,
+        "steps": [{"power": {"n": 2}}, {"zoom": {"at": [10, 20], "factor": 2}}],
+    }
+    origin = {"Origin": f"http://127.0.0.1:{srv.port}", "Content-Type": "application/json"}
+    status, data, _ = _req(srv, "POST", "/api/stages", json.dumps(recipe).encode(), origin)
+    assert status == 200, data
+    assert 2 in json.loads(data)["stages"]["codes"]
+    # an expression map has no compiled stage: the page is told why
+    expr = {"spherewarp": 1, "steps": [{"map": {"expr": "z**2 + 1/z"}}]}
+    status, data, _ = _req(srv, "POST", "/api/stages", json.dumps(expr).encode(), origin)
+    assert status == 200
+    assert json.loads(data)["stages"]["codes"] is None
+
+
+@pytest.mark.parametrize(
+    "path",
+    [
+        "/../secret.txt",
+        "/assets/../../secret.txt",
+        "/%2e%2e/secret.txt",
+        "/assets/%2e%2e/%2e%2e/%2e%2e/secret.txt",
+        "/%2E%2E%2Fsecret.txt",
+        "/..%2f..%2fserver.py",
+        "/..%5c..%5cserver.py",
+        "/server.py",
+        "/%00index.html",
+        "//etc/passwd",
+    ],
+)
+def test_path_traversal(served, path):
+    srv, d = served
+    before = _snapshot(d)
+    status, data, _ = _req(srv, "GET", path)
+    assert status in (400, 404), (path, status)
+    assert b"do not serve" not in data and b"import" not in data
+    assert _snapshot(d) == before
+
+
+@pytest.mark.parametrize("host", ["evil.example:80", "evil.example", "127.0.0.1:1", ""])
+def test_dns_rebinding(served, host):
+    srv, _ = served
+    for path in ("/", "/api/state", "/image"):
+        status, _, _ = _req(srv, "GET", path, headers={"Host": host})
+        assert status == 403, (host, path)
+
+
+def test_cross_origin(served):
+    srv, d = served
+    before = _snapshot(d)
+    body = json.dumps({"spherewarp": 1, "steps": []}).encode()
+    for hdr in ({"Origin": "http://evil.example"}, {"Sec-Fetch-Site": "cross-site"}):
+        assert _req(srv, "GET", "/api/state", headers=hdr)[0] == 403
+        assert _req(srv, "POST", "/api/render", body, hdr)[0] == 403
+        assert _req(srv, "POST", "/api/stages", body, hdr)[0] == 403
+    assert _snapshot(d) == before
+    assert not srv.jobs
+
+
+def test_oversized_body(served):
+    srv, d = served
+    before = _snapshot(d)
+    # the length is refused before the body is read (the server then closes the
+    # connection: a client still sending gets a broken pipe, so only a little is sent)
+    big = {"Content-Length": str(MAX_BODY + 1)}
+    for path in ("/api/render", "/api/stages"):
+        c = http.client.HTTPConnection("127.0.0.1", srv.port, timeout=10)
+        c.putrequest("POST", path, skip_host=True, skip_accept_encoding=True)
+        c.putheader("Host", f"127.0.0.1:{srv.port}")
+        for k, v in big.items():
+            c.putheader(k, v)
+        c.endheaders()
+        c.send(b"x" * 1000)
+        r = c.getresponse()
+        assert r.status == 413 and "over the limit" in json.loads(r.read())["error"]
+        c.close()
+    assert _snapshot(d) == before and not srv.jobs
+
+
+@pytest.mark.parametrize(
+    ("body", "line"),
+    [
+        (b"{not json", "not JSON"),
+        (b'{"spherewarp": 1, "steps": [{"zooom": {}}]}', "unknown effect 'zooom'"),
+        (b'{"spherewarp": 1, "steps": [{"zoom": {"at": [0, 0], "factor": -2}}]}', "factor"),
+        (b"\xff\xfe", "UTF-8"),
+    ],
+)
+def test_malformed_recipe(served, body, line):
+    srv, d = served
+    before = _snapshot(d)
+    for path in ("/api/render", "/api/stages"):
+        status, data, _ = _req(srv, "POST", path, body)
+        assert status == 400
+        assert line in json.loads(data)["error"]
+    assert _snapshot(d) == before and not srv.jobs
+
+
+def test_render_job(served):
+    srv, d = served
+    before = _snapshot(d)
+    recipe = {"spherewarp": 1, "steps": [{"zoom": {"at": [0, 0], "factor": 2}}]}
+    status, data, _ = _req(srv, "POST", "/api/render", json.dumps(recipe).encode())
+    assert status == 200
+    job = json.loads(data)["job"]
+    for _ in range(300):
+        st = json.loads(_req(srv, "GET", f"/api/render/{job}")[1])
+        if st["done"]:
+            break
+        time.sleep(0.1)
+    assert st["done"] and st["error"] is None and st["progress"] == 1.0
+    status, data, r = _req(srv, "GET", f"/api/render/{job}/file")
+    assert status == 200 and "attachment" in r.getheader("Content-Disposition")
+    assert data[:4] == b"\x89PNG"
+    assert _snapshot(d) == before  # written in the server's own temporary folder
+    assert _req(srv, "GET", "/api/render/nope")[0] == 404
+
+
+def test_cli_view_prints_url_and_warns(tmp_path):
+    env = dict(os.environ)
+    cmd = [sys.executable, "-m", "spherewarp", "view", "--no-browser", "--host", "0.0.0.0"]
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        line = p.stdout.readline()
+        assert line.startswith("spherewarp view: http://0.0.0.0:")
+    finally:
+        p.terminate()
+        _, err = p.communicate(timeout=10)
+    assert "warning: listening on 0.0.0.0, not loopback" in err
+
+
+def test_cli_view_bad_recipe_is_one_line(tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"spherewarp": 1, "steps": [{"zooom": {}}]}')
+    before = _snapshot(tmp_path)
+    p = subprocess.run(
+        [sys.executable, "-m", "spherewarp", "view", "--no-browser", "--recipe", str(bad)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert p.returncode == 2 and p.stdout == ""
+    assert p.stderr.strip().splitlines() == [
+        "spherewarp: error: steps[0]: unknown effect 'zooom' (did you mean 'zoom'?)"
+    ]
+    assert _snapshot(tmp_path) == before

@@ -1,0 +1,532 @@
+// spherewarp view: the page. Raw WebGL2 (one full-screen fragment shader, see shader.js).
+import { BODY, VERTEX } from "./shader.js";
+
+const MAX_STAGES = 32;
+const DEG = Math.PI / 180;
+const $ = (id) => document.getElementById(id);
+const canvas = $("view");
+const status = (text, bad = false) => {
+  $("status").textContent = text;
+  $("status").className = bad ? "bad" : "";
+};
+
+const S = {
+  recipe: { spherewarp: 1, steps: [] },
+  view: "flat",
+  size: [1024, 512],
+  look: [0, 0, 90], // yaw, pitch, fov in degrees (sphere view)
+  planet: 1.0,
+  pins: [
+    [0, 90],
+    [0, -90],
+  ],
+  undo: [],
+  redo: [],
+  stages: null,
+  image: null,
+  frames: 0,
+  overlay: 0, // how much of the test pattern is mixed in
+  ss: 2, // sub-samples per pixel along each axis (?ss=1..4)
+};
+
+// -- WebGL ---------------------------------------------------------------------------------------
+const gl = canvas.getContext("webgl2", { preserveDrawingBuffer: true, antialias: false });
+let prog = null;
+let uni = {};
+let paramsTex = null;
+
+function compile(header) {
+  const src = `#version 300 es\nprecision highp float;\nprecision highp int;\n#define MAX_STAGES ${MAX_STAGES}\n${header}\n${BODY}`;
+  const mk = (type, text) => {
+    const sh = gl.createShader(type);
+    gl.shaderSource(sh, text);
+    gl.compileShader(sh);
+    if (!gl.getShaderParameter(sh, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(sh));
+    return sh;
+  };
+  prog = gl.createProgram();
+  gl.attachShader(prog, mk(gl.VERTEX_SHADER, VERTEX));
+  gl.attachShader(prog, mk(gl.FRAGMENT_SHADER, src));
+  gl.linkProgram(prog);
+  if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(prog));
+  gl.useProgram(prog);
+  for (const n of ["uImage", "uParams", "uCodes", "uCount", "uView", "uSize", "uLook", "uPlanet", "uSS", "uPattern", "uOverlay"])
+    uni[n] = gl.getUniformLocation(prog, n);
+  const buf = gl.createBuffer();
+  gl.bindBuffer(gl.ARRAY_BUFFER, buf);
+  gl.bufferData(gl.ARRAY_BUFFER, new Float32Array([-1, -1, 3, -1, -1, 3]), gl.STATIC_DRAW);
+  const loc = gl.getAttribLocation(prog, "pos");
+  gl.enableVertexAttribArray(loc);
+  gl.vertexAttribPointer(loc, 2, gl.FLOAT, false, 0, 0);
+}
+
+function uploadImage(img, unit = 0) {
+  const tex = gl.createTexture();
+  gl.activeTexture(gl.TEXTURE0 + unit);
+  gl.bindTexture(gl.TEXTURE_2D, tex);
+  gl.pixelStorei(gl.UNPACK_COLORSPACE_CONVERSION_WEBGL, gl.NONE);
+  gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
+  gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, gl.RGBA, gl.UNSIGNED_BYTE, img);
+  gl.generateMipmap(gl.TEXTURE_2D);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.LINEAR_MIPMAP_LINEAR);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.REPEAT);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
+  gl.uniform1i(unit === 0 ? uni.uImage : uni.uPattern, unit);
+}
+
+// the stages this shader runs (shader.js); a stage added to the table later is named, not
+// run wrongly
+const SHADER_STAGES = ["mobius", "power", "exp", "rational", "droste", "schottky"];
+
+function uploadStages(st) {
+  S.stages = st;
+  if (st.codes === null) {
+    status(`no live preview: ${st.missing}`, true);
+    return;
+  }
+  const unknown = st.codes.map((c) => S.stageNames[c]).filter((n) => !SHADER_STAGES.includes(n));
+  if (unknown.length) {
+    status(`no live preview: the shader has no '${unknown[0]}' stage yet (render full resolution)`, true);
+    S.stages = { codes: null };
+    return;
+  }
+  if (st.codes.length > MAX_STAGES) {
+    status(`no live preview: ${st.codes.length} stages (the shader takes ${MAX_STAGES})`, true);
+    S.stages = { codes: null };
+    return;
+  }
+  const w = Math.max(...st.rows.map((r) => r.length));
+  const data = new Float32Array(w * st.rows.length);
+  st.rows.forEach((r, s) => data.set(r, s * w));
+  if (!paramsTex) paramsTex = gl.createTexture();
+  gl.activeTexture(gl.TEXTURE1);
+  gl.bindTexture(gl.TEXTURE_2D, paramsTex);
+  gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+  gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, w, st.rows.length, 0, gl.RED, gl.FLOAT, data);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+  gl.uniform1i(uni.uParams, 1);
+  const codes = new Int32Array(MAX_STAGES);
+  codes.set(st.codes);
+  gl.uniform1iv(uni.uCodes, codes);
+}
+
+function draw() {
+  const [w, h] = S.size;
+  if (canvas.width !== w || canvas.height !== h) {
+    canvas.width = w;
+    canvas.height = h;
+  }
+  gl.viewport(0, 0, w, h);
+  gl.uniform1i(uni.uCount, S.stages && S.stages.codes ? S.stages.codes.length : -1);
+  gl.uniform1i(uni.uView, { flat: 0, sphere: 1, planet: 2 }[S.view]);
+  gl.uniform2f(uni.uSize, w, h);
+  gl.uniform3f(uni.uLook, S.look[0] * DEG, S.look[1] * DEG, S.look[2] * DEG);
+  gl.uniform1f(uni.uPlanet, S.planet);
+  gl.uniform1i(uni.uSS, S.ss);
+  gl.uniform1f(uni.uOverlay, S.overlay);
+  gl.drawArrays(gl.TRIANGLES, 0, 3);
+  S.frames += 1;
+}
+
+// -- the views, in JS as in the shader's outDir: canvas pixel <-> (lon, lat) degrees ----------
+function pixelToLonLat(px, py) {
+  const [w, h] = S.size;
+  if (S.view === "flat") return [(px / w) * 360 - 180, 90 - (py / h) * 180];
+  const nx = (2 * px - w) / w;
+  const ny = (2 * py - h) / w;
+  let d;
+  if (S.view === "sphere") {
+    const [yaw, pitch, fov] = S.look.map((a) => a * DEG);
+    const cy = Math.cos(yaw), sy = Math.sin(yaw), cp = Math.cos(pitch), sp = Math.sin(pitch);
+    const k = Math.tan(fov / 2);
+    d = [
+      cp * cy - k * nx * sy + k * ny * sp * cy,
+      cp * sy + k * nx * cy + k * ny * sp * sy,
+      sp - k * ny * cp,
+    ];
+  } else {
+    let qx = nx * S.planet, qy = ny * S.planet;
+    const cy = Math.cos(S.look[0] * DEG), sy = Math.sin(S.look[0] * DEG);
+    [qx, qy] = [cy * qx - sy * qy, sy * qx + cy * qy];
+    const r2 = qx * qx + qy * qy;
+    d = [(2 * qx) / (1 + r2), (-2 * qy) / (1 + r2), (r2 - 1) / (1 + r2)];
+  }
+  const lon = Math.atan2(d[1], d[0]) / DEG;
+  const lat = Math.atan2(d[2], Math.hypot(d[0], d[1])) / DEG;
+  return [lon, lat];
+}
+
+function eventPixel(ev) {
+  const r = canvas.getBoundingClientRect();
+  return [((ev.clientX - r.left) * S.size[0]) / r.width, ((ev.clientY - r.top) * S.size[1]) / r.height];
+}
+
+const round = (p) => p.map((v) => Math.round(v * 1e6) / 1e6);
+
+// -- the recipe: stages from the server, history, URL ---------------------------------------
+let pending = null;
+let inflight = false;
+
+async function post(path, recipe) {
+  const r = await fetch(path, {
+    method: "POST",
+    headers: { "Content-Type": "application/json" },
+    body: JSON.stringify(recipe),
+  });
+  const data = await r.json();
+  if (!r.ok) throw new Error(data.error || `HTTP ${r.status}`);
+  return data;
+}
+
+// the latest recipe wins; one request in flight at a time
+function refresh() {
+  pending = JSON.parse(JSON.stringify(S.recipe));
+  if (!inflight) pump();
+  writeURL();
+}
+
+async function pump() {
+  inflight = true;
+  while (pending) {
+    const recipe = pending;
+    pending = null;
+    try {
+      const { stages } = await post("api/stages", recipe);
+      uploadStages(stages);
+      if (stages.codes) status(`${recipe.steps.length} step(s), ${stages.codes.length} stage(s)`);
+    } catch (e) {
+      status(e.message, true);
+    }
+    draw();
+  }
+  inflight = false;
+  S.settled = true;
+  window.dispatchEvent(new Event("sw-drawn"));
+}
+
+function commit(recipe) {
+  S.undo.push(JSON.stringify(S.recipe));
+  S.redo = [];
+  S.recipe = recipe;
+  refresh();
+  buildSliders();
+}
+
+// undo: from S.undo to S.redo; redo: the other way
+function shift(from, to) {
+  if (!from.length) return;
+  to.push(JSON.stringify(S.recipe));
+  S.recipe = JSON.parse(from.pop());
+  refresh();
+  buildSliders();
+}
+const undo = () => shift(S.undo, S.redo);
+const redo = () => shift(S.redo, S.undo);
+
+function writeURL() {
+  const q = new URLSearchParams();
+  q.set("view", S.view);
+  q.set("size", `${S.size[0]}x${S.size[1]}`);
+  if (S.ss !== 2) q.set("ss", S.ss);
+  q.set("recipe", JSON.stringify(S.recipe));
+  history.replaceState(null, "", `?${q}`);
+}
+
+function readURL() {
+  const q = new URLSearchParams(location.search);
+  if (["flat", "sphere", "planet"].includes(q.get("view"))) S.view = q.get("view");
+  const m = /^(\d+)x(\d+)$/.exec(q.get("size") || "");
+  if (m) S.size = [Math.min(+m[1], 8192), Math.min(+m[2], 8192)];
+  const ss = +q.get("ss");
+  if (ss >= 1 && ss <= 4) S.ss = Math.round(ss);
+  if (q.get("recipe")) {
+    try {
+      S.recipe = JSON.parse(q.get("recipe"));
+    } catch (e) {
+      status(`recipe in the URL: ${e.message}`, true);
+    }
+  }
+}
+
+// -- direct manipulation ---------------------------------------------------------------------
+let drag = null;
+
+canvas.addEventListener("mousedown", (ev) => {
+  ev.preventDefault();
+  const [px, py] = eventPixel(ev);
+  const at = pixelToLonLat(px, py);
+  if (ev.altKey) {  // pin a point (the older pin goes)
+    S.pins = [S.pins[1], round(at)];
+    showPins();
+    return;
+  }
+  if (S.view === "sphere" && !ev.shiftKey) {
+    drag = { look: true, x: ev.clientX, y: ev.clientY, start: [...S.look] };
+    return;
+  }
+  drag = { from: round(at), base: JSON.parse(JSON.stringify(S.recipe)), moved: false };
+});
+
+function dragStep(to) {
+  return { mobius: { from: [drag.from, ...S.pins], to: [round(to), ...S.pins] } };
+}
+
+window.addEventListener("mousemove", (ev) => {
+  if (!drag) return;
+  if (drag.look) {
+    const k = S.look[2] / canvas.getBoundingClientRect().width;
+    S.look[0] = drag.start[0] + (ev.clientX - drag.x) * k;
+    S.look[1] = Math.max(-89.9, Math.min(89.9, drag.start[1] + (ev.clientY - drag.y) * k));
+    draw();
+    return;
+  }
+  const to = pixelToLonLat(...eventPixel(ev));
+  drag.moved = true;
+  S.recipe = { ...drag.base, steps: [...drag.base.steps, dragStep(to)] };
+  refresh();
+});
+
+window.addEventListener("mouseup", (ev) => {
+  if (!drag) return;
+  const d = drag;
+  drag = null;
+  if (d.look || !d.moved) return;
+  const to = pixelToLonLat(...eventPixel(ev));
+  S.undo.push(JSON.stringify(d.base));
+  S.redo = [];
+  S.recipe = { ...d.base, steps: [...d.base.steps, { mobius: { from: [d.from, ...S.pins], to: [round(to), ...S.pins] } }] };
+  refresh();
+  buildSliders();
+});
+
+canvas.addEventListener(
+  "wheel",
+  (ev) => {
+    ev.preventDefault();
+    if (ev.ctrlKey || ev.metaKey || ev.altKey) {  // a conformal (Möbius) zoom at the cursor
+      const at = round(pixelToLonLat(...eventPixel(ev)));
+      const f = Math.exp(-ev.deltaY * 0.002);
+      const steps = [...S.recipe.steps];
+      const last = steps[steps.length - 1];
+      if (last && last.zoom && last.zoom.at[0] === at[0] && last.zoom.at[1] === at[1] && !drag)
+        steps[steps.length - 1] = { zoom: { at, factor: last.zoom.factor * f } };
+      else steps.push({ zoom: { at, factor: f } });
+      commit({ ...S.recipe, steps });
+    } else if (S.view === "sphere") {
+      S.look[2] = Math.max(10, Math.min(170, S.look[2] * Math.exp(ev.deltaY * 0.001)));
+      draw();
+    } else if (S.view === "planet") {
+      S.planet = Math.max(0.05, Math.min(20, S.planet * Math.exp(ev.deltaY * 0.001)));
+      draw();
+    }
+  },
+  { passive: false },
+);
+
+window.addEventListener("keydown", (ev) => {
+  if (!(ev.ctrlKey || ev.metaKey)) return;
+  if (ev.key === "z" && !ev.shiftKey) undo();
+  else if (ev.key === "y" || (ev.key === "z" && ev.shiftKey)) redo();
+  else return;
+  ev.preventDefault();
+});
+
+function showPins() {
+  $("pins").textContent = S.pins.map((p) => `(${p[0].toFixed(1)}, ${p[1].toFixed(1)})`).join(" ");
+}
+
+// -- sliders for every numeric parameter -------------------------------------------------------
+function buildSliders() {
+  const box = $("params");
+  box.replaceChildren();
+  S.recipe.steps.forEach((step, k) => {
+    const [name, params] = Object.entries(step)[0];
+    const fs = document.createElement("fieldset");
+    const lg = document.createElement("legend");
+    lg.textContent = `${k + 1}. ${name}`;
+    const del = document.createElement("button");
+    del.textContent = "×";
+    del.title = "remove this step";
+    del.onclick = () => commit({ ...S.recipe, steps: S.recipe.steps.filter((_, i) => i !== k) });
+    lg.append(" ", del);
+    fs.append(lg);
+    const add = (label, get, set) => {
+      const v = get();
+      const span = Math.max(1, Math.abs(v)) * 2;
+      const row = document.createElement("label");
+      const input = document.createElement("input");
+      input.type = "range";
+      input.min = v - span;
+      input.max = v + span;
+      input.step = span / 500;
+      input.value = v;
+      const out = document.createElement("span");
+      out.textContent = (+v).toPrecision(5);
+      let base = null;
+      input.oninput = () => {
+        if (base === null) base = JSON.stringify(S.recipe);
+        set(+input.value);
+        out.textContent = (+input.value).toPrecision(5);
+        refresh();
+      };
+      input.onchange = () => {
+        if (base !== null) S.undo.push(base), (S.redo = []);
+        base = null;
+        buildSliders();
+      };
+      row.append(`${label} `, input, out);
+      fs.append(row);
+    };
+    const walk = (obj, path) => {
+      for (const [key, val] of Object.entries(obj)) {
+        if (typeof val === "number") add(`${path}${key}`, () => obj[key], (x) => (obj[key] = x));
+        else if (Array.isArray(val) || (val && typeof val === "object" && !val.keyframes))
+          walk(val, `${path}${key}.`);
+      }
+    };
+    walk(params, "");
+    box.append(fs);
+  });
+}
+
+// -- load, save, copy, render ------------------------------------------------------------------
+function download(name, blob) {
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(blob);
+  a.download = name;
+  a.click();
+}
+
+function cliCommand() {
+  const json = JSON.stringify(S.recipe, null, 1);
+  const [w, h] = S.size;
+  return `cat > recipe.json <<'EOF'\n${json}\nEOF\nspherewarp render recipe.json ${S.imageName} -o out.png --size ${w}x${h}`;
+}
+
+function wireButtons() {
+  $("undo").onclick = undo;
+  $("redo").onclick = redo;
+  $("save").onclick = () =>
+    download("recipe.json", new Blob([JSON.stringify(S.recipe, null, 2) + "\n"], { type: "application/json" }));
+  $("load").onchange = async (ev) => {
+    const file = ev.target.files[0];
+    if (!file) return;
+    try {
+      const recipe = JSON.parse(await file.text());
+      await post("api/stages", recipe); // validated by the server first
+      commit(recipe);
+    } catch (e) {
+      status(`${file.name}: ${e.message}`, true);
+    }
+  };
+  $("copy").onclick = async () => {
+    const text = cliCommand();
+    $("cli").value = text;
+    try {
+      await navigator.clipboard.writeText(text);
+      status("copied the command");
+    } catch {
+      status("the command is in the box below (the clipboard is not available)");
+    }
+  };
+  $("render").onclick = async () => {
+    try {
+      const { job } = await post("api/render", S.recipe);
+      const poll = async () => {
+        const st = await (await fetch(`api/render/${job}`)).json();
+        if (st.error) return status(`render: ${st.error}`, true);
+        if (!st.done) {
+          status(`rendering ${(100 * st.progress).toFixed(0)}%`);
+          return setTimeout(poll, 300);
+        }
+        status("rendered: downloading");
+        const a = document.createElement("a");
+        a.href = `api/render/${job}/file`;
+        a.download = "";
+        a.click();
+      };
+      poll();
+    } catch (e) {
+      status(e.message, true);
+    }
+  };
+  for (const v of ["flat", "sphere", "planet"])
+    $(`v-${v}`).onclick = () => {
+      S.view = v;
+      writeURL();
+      draw();
+    };
+  $("overlay").oninput = async () => {
+    if (!S.patternLoaded) {
+      S.patternLoaded = true;
+      const pat = new Image();
+      pat.src = "testpattern";
+      await pat.decode();
+      uploadImage(pat, 2);
+    }
+    S.overlay = +$("overlay").value;
+    draw();
+  };
+  $("size").onchange = () => {
+    const m = /^(\d+)x(\d+)$/.exec($("size").value);
+    if (m) (S.size = [+m[1], +m[2]]), writeURL(), draw();
+  };
+}
+
+// -- start -------------------------------------------------------------------------------------
+async function start() {
+  const state = await (await fetch("api/state")).json();
+  S.imageName = state.image.name;
+  S.stageNames = Object.fromEntries(state.table.stages.map((t) => [t.code, t.name]));
+  S.recipe = state.recipe;
+  const ar = state.image.width / state.image.height;
+  S.size = [Math.min(state.image.width, 2048), Math.round(Math.min(state.image.width, 2048) / ar)];
+  readURL();
+  $("size").value = `${S.size[0]}x${S.size[1]}`;
+  compile(state.glsl_header);
+  const img = new Image();
+  img.src = "image";
+  await img.decode();
+  uploadImage(img);
+  uploadImage(img, 2); // the overlay's texture until the test pattern is asked for
+  wireButtons();
+  showPins();
+  buildSliders();
+  refresh();
+}
+
+// hooks for the browser tests and the benchmark
+window.spherewarp = {
+  S,
+  draw,
+  pixelToLonLat,
+  setRecipe: (r) => commit(r),
+  // packed stages straight from Python (maps that no recipe effect makes yet)
+  setStages: (st) => {
+    uploadStages(st);
+    draw();
+  },
+  settle: () =>
+    new Promise((res) => {
+      if (!inflight && !pending) return res();
+      window.addEventListener("sw-drawn", () => res(), { once: true });
+    }),
+  frameTime: (n) => {
+    const px = new Uint8Array(4);
+    const t0 = performance.now();
+    for (let i = 0; i < n; i++) {
+      draw();
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px); // waits for the frame
+    }
+    return (performance.now() - t0) / n;
+  },
+};
+
+start()
+  .then(() => (window.spherewarp.ready = true))
+  .catch((e) => {
+    status(e.message, true);
+    window.spherewarp.error = e.message;
+  });

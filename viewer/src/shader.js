@@ -1,0 +1,241 @@
+// The full-screen fragment shader: for every output pixel, its direction on the sphere (by
+// the view), the recipe's map as compiled stages (the rows the CPU kernels read), then the
+// source texel with a mip level from the derivative of the source direction.
+//
+// The stage codes and field offsets (STAGE_MOBIUS, DROSTE_RHO, ...) are not written here:
+// the server sends spherewarp.render.stages.glsl_header(), generated from the stage table,
+// and it is prepended to this body. Each stage below mirrors its kernel in
+// spherewarp/render/_kernels.py (same formulas, float32).
+
+export const VERTEX = `#version 300 es
+in vec2 pos;
+void main() { gl_Position = vec4(pos, 0.0, 1.0); }
+`;
+
+export const BODY = `
+uniform sampler2D uImage;   // the panorama, mipmapped, RGBA8
+uniform sampler2D uPattern; // the paper's test pattern, for the overlay
+uniform float uOverlay;     // how much of the test pattern is mixed in (0: none)
+uniform highp sampler2D uParams;  // R32F: row s = stage s's parameter row
+uniform int uCodes[MAX_STAGES];
+uniform int uCount;          // number of stages; -1: the map has none (show a pattern)
+uniform int uView;           // 0 flat, 1 sphere, 2 little planet
+uniform vec2 uSize;          // the canvas in pixels
+uniform vec3 uLook;          // yaw, pitch (radians), field of view (radians, horizontal)
+uniform float uPlanet;       // little planet: scale of the plane
+uniform int uSS;             // sub-samples per pixel along each axis (1 to 4)
+out vec4 color;
+
+const float PI = 3.14159265358979;
+
+float P(int s, int i) {
+  return texelFetch(uParams, ivec2(i, s), 0).r;
+}
+
+// (sign, Re q, Im q) of the null vector (t, x, y, z), as _kernels._affine
+vec3 affine(vec4 v) {
+  float sg = v.w >= 0.0 ? 1.0 : -1.0;
+  float s = -1.0 / (v.x + abs(v.w));
+  return vec3(sg, v.y * s, sg * (v.z * s));
+}
+
+// the point (q, 1) (sg = 1) or (1, q) as a null vector with t = 1, as _kernels._put_pair
+vec4 putPair(float sg, vec2 q) {
+  float r2 = dot(q, q);
+  float inv = 1.0 / (1.0 + r2);
+  return vec4(1.0, -2.0 * q.x * inv, -2.0 * sg * q.y * inv, sg * (1.0 - r2) * inv);
+}
+
+vec2 cmul(vec2 a, vec2 b) { return vec2(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x); }
+
+vec4 stageMobius(int s, vec4 v) {
+  mat4 L;  // row-major in the row: L[col][row] in GLSL
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) L[j][i] = P(s, MOBIUS_L00 + 4 * i + j);
+  return L * v;
+}
+
+vec4 stagePower(int s, vec4 v) {
+  float m = P(s, POWER_M);
+  int am = int(abs(m));
+  vec3 a = affine(v);
+  vec2 q = a.yz;
+  vec2 b = vec2(1.0, 0.0);
+  for (int k = 0; k < 1024; k++) {
+    if (k >= am) break;
+    b = cmul(b, q);
+  }
+  return putPair(a.x * (m > 0.0 ? 1.0 : -1.0), b);
+}
+
+vec4 stageExp(int s, vec4 v) {
+  float lam = P(s, EXP_LAM), near = P(s, EXP_NEAR);
+  float t = v.x, x = v.y, y = v.z, z = v.w;
+  float d = x < 0.0 ? (y * y + z * z) / (t - x) : t + x;
+  if (d < near * t) return vec4(1.0, 0.0, 0.0, z >= 0.0 ? 1.0 : -1.0);
+  float phi = -lam * y / d;
+  float sr = -lam * z / d;
+  float e = exp(-abs(sr));
+  float w = 1.0 / (1.0 + e * e);
+  float zs = (1.0 - e * e) * w;
+  return vec4(1.0, 2.0 * e * cos(phi) * w, -2.0 * e * sin(phi) * w, sr <= 0.0 ? zs : -zs);
+}
+
+vec4 stageRational(int s, vec4 v) {
+  int d = int(P(s, RATIONAL_DEGREE));
+  int on = RATIONAL_COEFFICIENTS;
+  int od = RATIONAL_COEFFICIENTS + 2 * (d + 1);
+  vec3 a = affine(v);
+  vec2 q = a.yz;
+  bool up = a.x > 0.0;
+  vec2 n = vec2(0.0), dd = vec2(0.0);
+  for (int j = 0; j < 4096; j++) {
+    if (j > d) break;
+    int k = up ? j : d - j;  // (q, 1): highest degree first; (1, q): the lists backwards
+    n = cmul(n, q) + vec2(P(s, on + 2 * k), P(s, on + 2 * k + 1));
+    dd = cmul(dd, q) + vec2(P(s, od + 2 * k), P(s, od + 2 * k + 1));
+  }
+  float a2 = dot(n, n), b2 = dot(dd, dd), tt = a2 + b2;
+  if (!(tt > 0.0)) return vec4(1.0, 0.0, 0.0, 1.0);
+  float inv = 1.0 / tt;
+  return vec4(1.0, -2.0 * (n.x * dd.x + n.y * dd.y) * inv, -2.0 * (n.y * dd.x - n.x * dd.y) * inv,
+              (b2 - a2) * inv);
+}
+
+vec4 stageDroste(int s, vec4 v) {
+  int m = int(P(s, DROSTE_M));
+  float ell = P(s, DROSTE_ELL);
+  vec2 beta = vec2(P(s, DROSTE_BETA_RE), P(s, DROSTE_BETA_IM));
+  float l0 = P(s, DROSTE_PIVOT);
+  vec2 c = vec2(P(s, DROSTE_C_RE), P(s, DROSTE_C_IM));
+  float t = v.x, x = v.y, y = v.z, z = v.w;
+  float rxy = sqrt(x * x + y * y);
+  float lq = log(max(rxy / (t + abs(z)), 1e-30));
+  float u = (z >= 0.0 ? lq : -lq) - l0;
+  float th = atan(-y, -x);
+  float lr = beta.x * u - beta.y * th + c.x;
+  float li = beta.x * th + beta.y * u + c.y;
+  float ths = li - 2.0 * PI * floor((li + PI) / (2.0 * PI));
+  float xi = (ths + PI) * float(m) / (2.0 * PI);
+  float i0f = clamp(floor(xi), 0.0, float(m - 1));
+  float f = xi - i0f;
+  int i0 = int(i0f);
+  int i1 = i0 + 1 < m ? i0 + 1 : 0;
+  float rho = P(s, DROSTE_RHO + i0) * (1.0 - f) + P(s, DROSTE_RHO + i1) * f;
+  float us = lr - floor((lr - rho) / ell) * ell;
+  us = clamp(us, rho, rho + ell);
+  float e = exp(-abs(us));
+  float w = 1.0 / (1.0 + e * e);
+  float zs = (1.0 - e * e) * w;
+  return vec4(1.0, -2.0 * e * cos(ths) * w, -2.0 * e * sin(ths) * w, us <= 0.0 ? zs : -zs);
+}
+
+// returns t < 0 for a point still in a disk after depth moves (invalid)
+vec4 stageSchottky(int s, vec4 v) {
+  int nm = 2 * int(P(s, SCHOTTKY_COUNT));
+  int depth = int(P(s, SCHOTTKY_DEPTH));
+  int last = -1;
+  for (int it = 0; it <= 4096; it++) {
+    int move = -1;
+    for (int j = 0; j < 512; j++) {
+      if (j >= nm) break;
+      int b = SCHOTTKY_MOVES + j * SCHOTTKY_MOVES_SIZE;
+      float dn = P(s, b + SCHOTTKY_MOVES_NX) * v.y + P(s, b + SCHOTTKY_MOVES_NX + 1) * v.z +
+                 P(s, b + SCHOTTKY_MOVES_NX + 2) * v.w;
+      if (j != (last ^ 1) && dn > P(s, b + SCHOTTKY_MOVES_COS_R) * v.x) { move = j; break; }
+    }
+    if (move < 0) return v;
+    if (it >= depth) return vec4(-1.0, 0.0, 0.0, 0.0);
+    int o = SCHOTTKY_MOVES + move * SCHOTTKY_MOVES_SIZE + SCHOTTKY_MOVES_L00;
+    mat4 L;
+    for (int i = 0; i < 4; i++)
+      for (int k = 0; k < 4; k++) L[k][i] = P(s, o + 4 * i + k);
+    v = L * v;
+    v /= v.x;
+    last = move;
+  }
+  return vec4(-1.0, 0.0, 0.0, 0.0);
+}
+
+// the output pixel's direction on the sphere, by the view (x from the left, y from the top)
+vec3 outDir(vec2 p) {
+  if (uView == 0) {
+    float lon = p.x / uSize.x * 2.0 * PI - PI;
+    float lat = 0.5 * PI - p.y / uSize.y * PI;
+    return vec3(cos(lat) * cos(lon), cos(lat) * sin(lon), sin(lat));
+  }
+  vec2 ndc = (2.0 * p - uSize) / uSize.x;  // x in [-1, 1], y down
+  if (uView == 1) {
+    float cy = cos(uLook.x), sy = sin(uLook.x), cp = cos(uLook.y), sp = sin(uLook.y);
+    vec3 f = vec3(cp * cy, cp * sy, sp), r = vec3(-sy, cy, 0.0), u = vec3(-sp * cy, -sp * sy, cp);
+    float k = tan(0.5 * uLook.z);
+    return normalize(f + k * ndc.x * r - k * ndc.y * u);
+  }
+  // little planet: stereographic projection from the zenith, the nadir at the centre
+  vec2 q = ndc * uPlanet;
+  float cy = cos(uLook.x), sy = sin(uLook.x);
+  q = vec2(cy * q.x - sy * q.y, sy * q.x + cy * q.y);
+  float r2 = dot(q, q);
+  return vec3(2.0 * q.x, -2.0 * q.y, r2 - 1.0) / (1.0 + r2);
+}
+
+vec4 runStages(vec3 d) {
+  vec4 v = vec4(1.0, d);
+  for (int s = 0; s < MAX_STAGES; s++) {
+    if (s >= uCount) break;
+    int code = uCodes[s];
+    if (code == STAGE_MOBIUS) v = stageMobius(s, v);
+    else if (code == STAGE_POWER) v = stagePower(s, v);
+    else if (code == STAGE_EXP) v = stageExp(s, v);
+    else if (code == STAGE_RATIONAL) v = stageRational(s, v);
+    else if (code == STAGE_DROSTE) v = stageDroste(s, v);
+    else if (code == STAGE_SCHOTTKY) v = stageSchottky(s, v);
+    if (v.x < 0.0) return v;
+  }
+  return v;
+}
+
+// d lon, d lat of a change dv of the unit direction s (continuous across the seam)
+vec2 lonlatGrad(vec3 s, vec3 dv) {
+  float r2 = max(s.x * s.x + s.y * s.y, 1e-12);
+  float dlon = (s.x * dv.y - s.y * dv.x) / r2;
+  float dlat = dv.z / sqrt(r2);
+  vec2 g = vec2(dlon / (2.0 * PI), dlat / PI);
+  // a jump of the map (a Droste seam, a Schottky disk edge): not a footprint
+  return length(dv) > 0.25 ? vec2(0.0) : g;
+}
+
+vec4 sampleAt(vec2 p, float n) {
+  vec4 v = runStages(outDir(p));
+  vec3 s = v.x < 0.0 ? vec3(1.0, 0.0, 0.0) : normalize(v.yzw);
+  float lon = atan(s.y, s.x);
+  float lat = atan(s.z, length(s.xy));
+  vec2 uv = vec2((lon + PI) / (2.0 * PI), (0.5 * PI - lat) / PI);
+  vec3 dx = dFdx(s) / n, dy = dFdy(s) / n;  // the footprint of one sub-sample
+  vec2 gx = lonlatGrad(s, dx), gy = lonlatGrad(s, dy);
+  vec4 c = textureGrad(uImage, uv, gx, gy);
+  if (uOverlay > 0.0) c = mix(c, textureGrad(uPattern, uv, gx, gy), uOverlay);
+  return v.x < 0.0 ? vec4(0.0, 0.0, 0.0, 1.0) : vec4(c.rgb, 1.0);
+}
+
+void main() {
+  vec2 p = vec2(gl_FragCoord.x, uSize.y - gl_FragCoord.y);
+  if (uCount < 0) {  // no compiled stages: a grey check so that it is plain
+    float c = mod(floor(p.x / 16.0) + floor(p.y / 16.0), 2.0);
+    color = vec4(vec3(0.35 + 0.1 * c), 1.0);
+    return;
+  }
+  // uSS x uSS sub-samples a pixel (a box filter, as the CPU's area anti-aliasing), each
+  // with the mip level of its own footprint
+  float n = float(uSS);
+  vec4 acc = vec4(0.0);
+  for (int i = 0; i < 4; i++) {
+    if (i >= uSS) break;
+    for (int j = 0; j < 4; j++) {
+      if (j >= uSS) break;
+      acc += sampleAt(p + (vec2(float(i), float(j)) + 0.5) / n - 0.5, n);
+    }
+  }
+  color = acc / (n * n);
+}
+`;
