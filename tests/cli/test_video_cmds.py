@@ -113,7 +113,8 @@ def test_ctrl_c_leaves_no_file(workdir):
         )
         end = time.monotonic() + 60
         while proc.poll() is None and time.monotonic() < end:
-            if any(".tmp" in p.name for p in workdir.iterdir()):
+            parts = workdir / "o.mp4.parts"  # the segments' work directory
+            if any(".tmp" in p.name for p in (*workdir.iterdir(), *parts.glob("*"))):
                 break
             time.sleep(0.002)
         time.sleep(0.2)  # frames in flight in every stage
@@ -121,13 +122,17 @@ def test_ctrl_c_leaves_no_file(workdir):
             break
         proc.communicate()
         (workdir / "o.mp4").unlink()
+        shutil.rmtree(workdir / "o.mp4.parts", ignore_errors=True)
     else:
         pytest.skip("the render keeps ending before the signal")
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 130, err
     assert err.startswith("spherewarp: interrupted") and err.count("\n") == 1, err
-    assert sorted(p.name for p in workdir.iterdir()) == ["long.mp4"]
+    assert "--resume" in err, err
+    # no output, no temporary file; the finished segments stay for --resume
+    assert sorted(p.name for p in workdir.iterdir()) in (["long.mp4"], ["long.mp4", "o.mp4.parts"])
+    assert not [p for p in (workdir / "o.mp4.parts").glob("*") if ".tmp" in p.name]
 
 
 def test_power_and_exp(clip):

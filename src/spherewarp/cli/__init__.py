@@ -166,7 +166,10 @@ def _stop(exc: BaseException, prog: str) -> None:
     if atomic is not None:
         atomic.remove_live()
     code, word = _signals.exit_status(exc)
-    click.echo(f"{prog}: {word} (no partially written file is left)", err=True)
+    segments = sys.modules.get("spherewarp.io.segments")
+    hint = getattr(segments, "resume_hint", None)
+    more = f"; {hint}" if hint else ""
+    click.echo(f"{prog}: {word} (no partially written file is left{more})", err=True)
     sys.exit(code)
 
 

@@ -393,7 +393,8 @@ def run_inputs(func: Callable, inputs: tuple[Path, ...], kwargs: dict[str, Any])
                 raise  # interrupted: stop the batch
             click.echo(error_line(exc)[0], err=True)  # type: ignore[index]
             failed += 1
-        written += [(p, f"input {str(path)!r}") for p, _ in job.written]
+        new = job.written[len(written) :]  # the job was seeded with ``written``
+        written += [(p, f"input {str(path)!r}") for p, _ in new]
     if failed:
         raise SpherewarpError(f"{failed} of {len(inputs)} inputs failed (each said why above)")
 

@@ -117,3 +117,49 @@ def close_all() -> None:
     """Clear every bar still drawn (an error or an interrupt mid-render)."""
     for bar in list(_OPEN):
         bar.close()
+
+
+class JsonProgress:
+    """A ``progress(done, total)`` callback writing one JSON object a line on stderr, for
+    scripts: ``{"frames": 12, "total": 48, "fps": 30.5, "eta": 1.2}`` (``eta`` in seconds,
+    null until known), at most every :attr:`every` seconds and always at the end.
+
+    Examples
+    --------
+    >>> import io
+    >>> out = io.StringIO()
+    >>> p = JsonProgress(stream=out, every=0.0)
+    >>> p(0, 2); p(2, 2)
+    >>> out.getvalue().splitlines()[-1].startswith('{"frames": 2, "total": 2')
+    True
+    """
+
+    def __init__(self, stream: TextIO | None = None, every: float = 0.5) -> None:
+        self.stream = sys.stderr if stream is None else stream
+        self.every = every
+        self._start: float | None = None
+        self._first = 0
+        self._last = -1.0
+        self._said: tuple[int, int] | None = None
+
+    def __call__(self, done: int, total: int) -> None:
+        import json
+
+        now = time.monotonic()
+        if self._start is None:
+            self._start, self._first = now, done
+        if done < total and now - self._last < self.every:
+            return
+        if self._said == (done, total):
+            return
+        self._last, self._said = now, (done, total)
+        spent = now - self._start
+        fps = (done - self._first) / spent if spent > 0 else None
+        eta = (total - done) / fps if fps else (0.0 if done >= total else None)
+        line = {"frames": done, "total": total, "fps": None if fps is None else round(fps, 2),
+                "eta": None if eta is None else round(eta, 2)}  # fmt: skip
+        self.stream.write(json.dumps(line) + "\n")
+        self.stream.flush()
+
+    def close(self) -> None:
+        """Nothing to clear (the lines stay)."""

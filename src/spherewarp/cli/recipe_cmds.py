@@ -344,14 +344,23 @@ def _inputs_argument(func: Callable) -> Callable:
     show_default=True,
     help="The time in seconds at which to evaluate the recipe's tracks.",
 )
+@click.option(
+    "--dask",
+    metavar="ADDRESS",
+    help="Render the INPUTs on the workers of this Dask scheduler (tcp://host:8786), which "
+    "read them (and R.json) by the same path; the files are written here.",
+)
 @render_options
-def render(inputs: tuple[Path, ...], render: RenderOptions, recipe: Path, time: float) -> None:
+def render(
+    inputs: tuple[Path, ...], render: RenderOptions, recipe: Path, time: float, dask: str | None
+) -> None:
     """Render a recipe (R.json, as --save-recipe writes it) on INPUT.
 
     The recipe's options (--interp, --supersample, --antialias, --size,
     --background) apply unless given here. A recipe made from several inputs (a
     split screen, Droste's --inside images) takes them all, in order, as one render;
-    otherwise each INPUT is rendered in turn.
+    otherwise each INPUT is rendered in turn. With --dask the images are warped on
+    a Dask cluster's workers, all at once, and written here as without it.
     """
     from ..recipe import Recipe
     from ._common import run_inputs
@@ -363,13 +372,18 @@ def render(inputs: tuple[Path, ...], render: RenderOptions, recipe: Path, time: 
     render = _with_recipe_options(click.get_current_context(), render, frame)
     groups = _groups(r, recipe, inputs)
     if groups is None:
-        run_inputs(_render_one, inputs, {"render": render, "recipe": recipe, "frame": frame})
+        kwargs = {"render": render, "recipe": recipe, "frame": frame, "time": time, "dask": dask}
+        run_inputs(_render_one, inputs, kwargs)
         return
+    if dask is not None:
+        raise click.UsageError("--dask renders recipes of one input each, not this one's group")
     new_job(Job(reads=((recipe, "recipe"),)))
-    _render_one(groups[0], render, recipe, frame)
+    _render_one(groups[0], render, recipe, frame, time, None)
 
 
-def _render_one(input: Any, render: RenderOptions, recipe: Path, frame: Any) -> None:
+def _render_one(
+    input: Any, render: RenderOptions, recipe: Path, frame: Any, time: float, dask: str | None
+) -> None:
     from ._common import output_path, save_output
     from ._files import job
     from .mobius_cmds import check_output_suffix
@@ -380,8 +394,61 @@ def _render_one(input: Any, render: RenderOptions, recipe: Path, frame: Any) -> 
         job().reads(p, f"input {k + 1}" if len(group) > 1 else "input")
     check_output_suffix(output_path(render, group[0], "render"))  # refuse a bad output early
     srcs = _load_all(group, render)
-    out, gpano = _render_frame(srcs, frame, render, "render")
+    if dask is None:
+        out, gpano = _render_frame(srcs, frame, render, "render")
+    else:
+        ctx = click.get_current_context()
+        out, gpano = _dask_batch(ctx, dask, recipe, render, time).result(group[0])
     save_output(out, srcs[0], render, command="render", gpano=gpano)
+
+
+class _DaskBatch:
+    """The INPUTs of one ``render --dask`` run, all sent to the workers at the first one
+    (each then waits for its own result, so the batch renders in parallel)."""
+
+    def __init__(self, address: str, recipe: Path, inputs: list[Path], render: RenderOptions,
+                 time: float) -> None:  # fmt: skip
+        import os
+
+        from ..io.segments import check_workers, dask_client
+
+        self.client = dask_client(address)
+        paths = [os.path.abspath(p) for p in (recipe, *inputs)]
+        check_workers(self.client, paths)
+        self.futures = {
+            p: self.client.submit(_remote_still, a, paths[0], render, time, pure=False)
+            for p, a in zip(inputs, paths[1:], strict=True)
+        }
+
+    def result(self, input: Path) -> tuple[Any, Any]:
+        return self.futures[input].result()
+
+
+_BATCHES: dict[int, _DaskBatch] = {}
+
+
+def _dask_batch(
+    ctx: click.Context, address: str, recipe: Path, render: RenderOptions, time: float
+) -> _DaskBatch:
+    key = id(ctx)
+    if key not in _BATCHES:
+        ctx.call_on_close(lambda: _BATCHES.pop(key).client.close())
+        inputs = list(dict.fromkeys(ctx.params["inputs"]))
+        _BATCHES[key] = _DaskBatch(address, recipe, inputs, render, time)
+    return _BATCHES[key]
+
+
+def _remote_still(input: str, recipe: str, render: RenderOptions, time: float) -> tuple[Any, Any]:
+    """On a Dask worker: the pixels of ``recipe`` at ``time`` on ``input``, and the GPano."""
+    from ..io.segments import _dask_threads, _set_threads
+    from ..recipe import Recipe
+    from ._common import load_input
+    from ._files import new_job
+
+    _set_threads(_dask_threads())
+    new_job()
+    src = load_input(Path(input), render)
+    return _render_frame(src, Recipe.load(recipe).at(time), render, "render")
 
 
 FPS = RealType("frames per second", "24 or 29.97", metavar="F", gt=0, le=1000)

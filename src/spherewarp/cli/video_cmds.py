@@ -106,7 +106,42 @@ class _EffectGroup(click.Group):
 )
 @click.option("--force", is_flag=True, help="Warp a video whose frame (eye) is not 2:1.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing output.")
-@click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress bar, no notes.")
+@click.option(
+    "--progress",
+    type=click.Choice(["bar", "json", "none"], case_sensitive=False),
+    default="bar",
+    show_default=True,
+    help="bar: a progress bar on a terminal; json: one JSON object a line on stderr (frames, "
+    "total, fps, eta), for scripts; none.",
+)
+@click.option(
+    "--segment",
+    type=click.FloatRange(min=0, min_open=True),
+    default=None,
+    metavar="S",
+    help="Seconds of video in each segment (default 10): a video is rendered in segments, "
+    "each starting on a keyframe, in OUT.parts/ beside the output, then joined.",
+)
+@click.option(
+    "--resume",
+    is_flag=True,
+    help="Continue an interrupted render from the finished segments in OUT.parts/.",
+)
+@click.option(
+    "-j",
+    "--jobs",
+    type=click.IntRange(min=1),
+    default=1,
+    show_default=True,
+    help="Segments rendered at once by local processes (each with its share of the cores).",
+)
+@click.option(
+    "--dask",
+    metavar="ADDRESS",
+    help="Render the segments on the workers of this Dask scheduler (tcp://host:8786); "
+    "the input and the output's folder must be at the same path on every worker.",
+)
 @click.pass_context
 def video(ctx: click.Context, input: tuple[Path, ...], output: Path, **options: Any) -> None:
     """Apply an effect to every frame of a 360° video.
@@ -164,20 +199,57 @@ def _grid(o: dict[str, Any], view: dict[str, Any] | None) -> tuple[Any, tuple[in
         )
     name = chosen["projection"] or "equirect"
 
-    def grid(eye: tuple[int, int]) -> Any:
+    return _GridFor(name, size, chosen), None
+
+
+class _GridFor:
+    """``grid(eye_shape) -> Grid``: a picklable grid maker (segments render elsewhere)."""
+
+    def __init__(self, name: str, size: Any, chosen: dict[str, Any]) -> None:
+        self.name, self.size, self.chosen = name, size, chosen
+
+    def __call__(self, eye: tuple[int, int]) -> Any:
         from ..grids import default_shape, make_grid
 
-        shape = size
+        shape = self.size
         if shape is None:
-            h, w = default_shape(name, eye)
+            h, w = default_shape(self.name, eye)
             shape = (max(2, h - h % 2), max(2, w - w % 2))
-        look = chosen["view_at"]
+        look = self.chosen["view_at"]
         return make_grid(
-            name, eye, shape=shape, look_at=None if look is None else tuple(look),
-            roll=float(chosen["view_roll"] or 0.0), fov=chosen["fov"],
+            self.name, eye, shape=shape, look_at=None if look is None else tuple(look),
+            roll=float(self.chosen["view_roll"] or 0.0), fov=self.chosen["fov"],
         )  # fmt: skip
 
-    return grid, None
+
+class _Static:
+    """``frame_map(t)`` of a map that does not change (picklable)."""
+
+    def __init__(self, inverse: Any, build: dict[str, Any]) -> None:
+        self.inverse, self.build = inverse, build
+
+    def __call__(self, t: float) -> tuple[Any, dict[str, Any]]:
+        return self.inverse, self.build
+
+
+class _Timed:
+    """``frame_map(t)`` of a timed recipe; tells ``pose`` what each frame's map does to the
+    directions (in this process; :meth:`on_client` for frames rendered elsewhere)."""
+
+    def __init__(self, recipe: Any, build: dict[str, Any], pose: _Pose | None) -> None:
+        self.recipe, self.build, self.pose = recipe, build, pose
+
+    def __call__(self, t: float) -> tuple[Any, dict[str, Any]]:
+        if self.pose is not None:
+            self.pose.see(self.recipe.pose_at(t))
+        return self.recipe.map_at(t), self.build
+
+    def on_client(self, times: list[float]) -> None:
+        for t in times:
+            self.pose.see(self.recipe.pose_at(t))
+
+    def __getstate__(self) -> dict[str, Any]:
+        return {**vars(self), "pose": None}
 
 
 def _outputs(func: Any) -> Any:
@@ -237,14 +309,23 @@ def _run(
         pose = _Pose(o["quiet"])
         pose.see(forward if pull is None else None)
     if frame_map is None:
-        inverse = forward.inverse() if pull is None else pull
-        build = build or {}
-
-        def frame_map(t: float) -> tuple[Any, dict[str, Any]]:
-            return inverse, build
-
+        frame_map = _Static(forward.inverse() if pull is None else pull, build or {})
     grid, out_shape = _grid(o, view)
-    bar = _Bar(enabled=not o["quiet"] and sys.stderr.isatty())
+    segmented = not sequence
+    if not segmented:
+        for name in ("resume", "jobs", "dask", "segment"):
+            if o[name] not in (None, False, 1):
+                raise click.BadParameter(
+                    "applies to a video output (an image sequence is written frame by frame)",
+                    param_hint=f"--{name}",
+                )
+    mode = "none" if o["quiet"] else o["progress"].lower()
+    if mode == "json":
+        from ._progress import JsonProgress
+
+        bar: Any = JsonProgress()
+    else:
+        bar = _Bar(enabled=mode == "bar" and sys.stderr.isatty())
     options = dict(
         codec=o["codec"], crf=o["crf"], preset=o["preset"], pix_fmt=o["pix_fmt"],
         overwrite=o["overwrite"], force=o["force"], progress=bar, stereo=o["stereo"],
@@ -261,9 +342,36 @@ def _run(
             one = n == 1 and not is_pattern(o["output"])
             click.echo(f"wrote {o['output']}" if one else f"wrote {n} frames to {o['output']}")
         else:
-            render_video(o["input"], o["output"], frame_map, **options)
+            from ..io.segments import DEFAULT_SEGMENT_SECONDS, render_segmented
+
+            render_segmented(
+                o["input"], o["output"], frame_map, identity=_identity(ctx, o),
+                resume=o["resume"], jobs=o["jobs"], dask=o["dask"],
+                segment_seconds=o["segment"] or DEFAULT_SEGMENT_SECONDS,
+                on_client=getattr(frame_map, "on_client", None), **options,
+            )  # fmt: skip
     finally:
         bar.close()
+
+
+#: the options of ``video`` that do not change the pixels (left out of a render's identity)
+_NOT_PIXELS = ("input", "output", "overwrite", "quiet", "progress", "resume", "jobs", "dask")
+
+
+def _identity(ctx: click.Context, o: dict[str, Any]) -> str:
+    """Everything that decides the output's pixels, as text: the effect and its options,
+    the recipe file's contents, the ``video`` options (a resumed render must match it)."""
+    import hashlib
+    import json
+
+    params = {k: v for k, v in ctx.params.items() if k not in ("output_", "overwrite_")}
+    recipe = params.get("recipe")
+    if recipe is not None:
+        params["recipe"] = hashlib.sha256(Path(recipe).read_bytes()).hexdigest()
+    group = {k: v for k, v in o.items() if k not in _NOT_PIXELS}
+    return json.dumps(
+        {"effect": ctx.info_name, "params": params, "video": group}, sort_keys=True, default=str
+    )
 
 
 def _file_key(path: Path) -> Any:
@@ -492,12 +600,7 @@ def run_recipe(ctx: click.Context, r: Any, path: Any, output_: Any, overwrite_: 
     if static is not None:
         pose.see(r.pose_at(0.0))
 
-    def frame_map(t: float) -> tuple[Any, dict[str, Any]]:
-        if static is not None:
-            return static, build
-        pose.see(r.pose_at(t))
-        return r.map_at(t), build
-
+    frame_map = _Static(static, build) if static is not None else _Timed(r, build, pose)
     _run(ctx, None, output_, overwrite_, frame_map=frame_map, view=r.at(0.0).view, pose=pose)
 
 

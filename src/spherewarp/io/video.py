@@ -273,7 +273,14 @@ def _pick_pix_fmt(enc: Any, in_pix: str, wanted: str | None) -> str:
 
 @contextlib.contextmanager
 def _quiet_stderr() -> Iterator[None]:
-    """Silence file descriptor 2 (libx264 prints a bad preset there itself, past FFmpeg's log)."""
+    """Silence file descriptor 2 (libx264 prints a bad preset there itself, past FFmpeg's log).
+
+    Only in the main thread: fd 2 is the whole process's, and swapping it under the other
+    threads of a Dask worker would hide (or lose) what they print; elsewhere it does nothing.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
     try:
         sys.stderr.flush()
         saved = os.dup(2)
@@ -424,26 +431,8 @@ def render_video(
     """
     input, output = Path(input), Path(output)
     _check_output(output)
-    info = probe(input)
-    layout, grid, size = frame_layout(info, input, stereo, grid, out_shape, force)
-    enc = _encoder(default_codec(output) if codec is None else codec)
-    out_pix = _pick_pix_fmt(enc, info.pix_fmt, pix_fmt)
-    _check_even(size, out_pix)
-    high = _depth(out_pix) > 8
-    rgb = _HIGH_DEPTH_RGB if high else "rgb24"
-    check_container(enc, output)
-    options = encoder_options(enc, crf, preset)
-    _check_encoder(enc, out_pix, options, info, size)
+    s = prepare(input, output, codec, crf, preset, pix_fmt, stereo, grid, out_shape, force)
     import av
-
-    def make_plan(inverse: SphereMap, opts: dict[str, Any], in_pix: str) -> Any:
-        def make(shape: tuple[int, int], eye_out: tuple[int, int] | None) -> FramePlan:
-            return FramePlan(
-                inverse, shape, stereo=layout, grid=grid, out_shape=eye_out or out_shape,
-                **{"force": force, **opts},
-            )  # fmt: skip
-
-        return frame_plan(make, (info.height, info.width), in_pix, out_pix, rgb, planar)
 
     with atomic_file(output, overwrite=overwrite) as tmp:
         src = _open(input)
@@ -451,15 +440,79 @@ def render_video(
             dst = av.open(str(tmp), "w", format=muxer(output))
             try:
                 _transcode(
-                    src, dst, info, enc.name, out_pix, rgb, options, frame_map, progress,
-                    make_plan, size,
+                    src, dst, s.info, s.codec, s.out_pix, s.rgb, s.options, frame_map, progress,
+                    s.plan_maker(planar), s.size,
                 )  # fmt: skip
             finally:
                 dst.close()
         finally:
             src.close()
-        write_spherical(tmp, output_spherical(info, layout, grid, spherical))
-    return info
+        write_spherical(tmp, output_spherical(s.info, s.layout, s.grid, spherical))
+    return s.info
+
+
+@dataclass
+class Settings:
+    """What :func:`prepare` settles before any frame is read: the input, its layout and
+    grid, the encoder and its options (all picklable, for segment workers)."""
+
+    info: VideoInfo
+    layout: str
+    grid: Any
+    size: tuple[int, int]
+    codec: str
+    out_pix: str
+    rgb: str
+    options: dict[str, str]
+    out_shape: tuple[int, int] | None
+    force: bool
+
+    def plan_maker(self, planar: bool) -> Callable[[SphereMap, dict[str, Any], str], Any]:
+        """``make_plan(inverse, build_options, in_pix)``: the frame plan of one map."""
+        info, layout, grid, out_shape, force = (
+            self.info, self.layout, self.grid, self.out_shape, self.force
+        )  # fmt: skip
+
+        def make_plan(inverse: SphereMap, opts: dict[str, Any], in_pix: str) -> Any:
+            def make(shape: tuple[int, int], eye_out: tuple[int, int] | None) -> FramePlan:
+                return FramePlan(
+                    inverse, shape, stereo=layout, grid=grid, out_shape=eye_out or out_shape,
+                    **{"force": force, **opts},
+                )  # fmt: skip
+
+            return frame_plan(
+                make, (info.height, info.width), in_pix, self.out_pix, self.rgb, planar
+            )
+
+        return make_plan
+
+
+def prepare(
+    input: Path,
+    output: Path,
+    codec: str | None,
+    crf: float | None,
+    preset: str | None,
+    pix_fmt: str | None,
+    stereo: str | None,
+    grid: Any,
+    out_shape: tuple[int, int] | None,
+    force: bool,
+    check: bool = True,
+) -> Settings:
+    """Probe ``input`` and settle the encoder for ``output``, refusing a bad option before
+    anything is written (``check``: also open the encoder once with its options)."""
+    info = probe(input)
+    layout, grid, size = frame_layout(info, input, stereo, grid, out_shape, force)
+    enc = _encoder(default_codec(output) if codec is None else codec)
+    out_pix = _pick_pix_fmt(enc, info.pix_fmt, pix_fmt)
+    _check_even(size, out_pix)
+    rgb = _HIGH_DEPTH_RGB if _depth(out_pix) > 8 else "rgb24"
+    check_container(enc, output)
+    options = encoder_options(enc, crf, preset)
+    if check:
+        _check_encoder(enc, out_pix, options, info, size)
+    return Settings(info, layout, grid, size, enc.name, out_pix, rgb, options, out_shape, force)
 
 
 def frame_layout(
@@ -520,6 +573,26 @@ def _check_even(size: tuple[int, int], pix: str) -> None:
         )
 
 
+def copy_streams(src: Any, dst: Any, vin: Any) -> dict[int, Any]:
+    """Add to ``dst`` a copy of each stream of ``src`` but ``vin`` that its container holds
+    (``{input stream index: output stream}``), warning of each one dropped."""
+    copies: dict[int, Any] = {}
+    for s in src.streams:
+        if s is vin:
+            continue
+        name = s.codec_context.name if s.codec_context is not None else "unknown"
+        if s.type == "video":
+            why = "only the first video stream is warped"
+        elif not _copyable(s.type, name, dst.format.name):
+            kind = {"matroska": "a Matroska", "webm": "a WebM"}.get(dst.format.name, "an MP4/MOV")
+            why = f"{kind} file cannot hold {s.type} in {name}"
+        else:
+            copies[s.index] = dst.add_stream_from_template(s)
+            continue
+        warnings.warn(f"stream #{s.index} ({s.type}, {name}) is dropped: {why}", stacklevel=4)
+    return copies
+
+
 def _transcode(
     src: Any,
     dst: Any,
@@ -544,20 +617,7 @@ def _transcode(
     vout.time_base = vin.time_base
     vout.codec_context.time_base = vin.time_base
     vout.thread_type = "AUTO"
-    copies: dict[int, Any] = {}
-    for s in src.streams:
-        if s is vin:
-            continue
-        name = s.codec_context.name if s.codec_context is not None else "unknown"
-        if s.type == "video":
-            why = "only the first video stream is warped"
-        elif not _copyable(s.type, name, dst.format.name):
-            kind = {"matroska": "a Matroska", "webm": "a WebM"}.get(dst.format.name, "an MP4/MOV")
-            why = f"{kind} file cannot hold {s.type} in {name}"
-        else:
-            copies[s.index] = dst.add_stream_from_template(s)
-            continue
-        warnings.warn(f"stream #{s.index} ({s.type}, {name}) is dropped: {why}", stacklevel=3)
+    copies = copy_streams(src, dst, vin)
     total = info.frames
     stop = threading.Event()
     decoded: queue.Queue = queue.Queue(_QUEUE)

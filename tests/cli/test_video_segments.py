@@ -1,0 +1,164 @@
+"""``spherewarp video`` in segments: resume after SIGINT or SIGKILL, a refused manifest,
+``--progress json``, ``--jobs`` (``--dask``: test_dask.py)."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from _cli import ok, run
+
+from videoclip import make_clip
+
+av = pytest.importorskip("av")
+
+SEG = "0.25"  # 6 frames a segment at 24 fps
+ROTATE = ("rotate", "--yaw", "30")
+
+
+@pytest.fixture
+def clip(workdir):
+    return make_clip(workdir / "in.mp4", frames=48)
+
+
+def digest(path) -> str:
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def packets(path, kind):
+    with av.open(str(path)) as c:
+        streams = getattr(c.streams, kind)
+        return [(p.pts, p.dts, bytes(p)) for p in c.demux(streams[0]) if p.size]
+
+
+def times(path):
+    return sorted(p[0] for p in packets(path, "video"))
+
+
+def frames(path):
+    with av.open(str(path)) as c:
+        return [f.to_ndarray(format="rgb24") for f in c.decode(video=0)]
+
+
+def psnr(a, b):
+    mse = np.mean((a.astype(np.float64) - b) ** 2)
+    return np.inf if mse == 0 else 10 * np.log10(255.0**2 / mse)
+
+
+def start(*args, env=None):
+    return subprocess.Popen(
+        [sys.executable, "-m", "spherewarp", *args], stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL, env=env,
+    )  # fmt: skip
+
+
+def wait_for_segments(parts: Path, n: int, proc, timeout=300) -> None:
+    """Until the manifest in ``parts`` lists ``n`` finished segments."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        try:
+            if len(json.loads((parts / "manifest.json").read_text())["done"]) >= n:
+                return
+        except (OSError, ValueError, KeyError):
+            pass
+        assert proc.poll() is None, proc.communicate()
+        time.sleep(0.05)
+    raise AssertionError("no segment finished in time")
+
+
+def test_segments_keep_times_frames_and_audio(clip):
+    ok(None, "video", clip.name, "-o", "seg.mp4", "--segment", SEG, "--quiet", *ROTATE)
+    assert not Path("seg.mp4.parts").exists()
+    assert times("seg.mp4") == times(clip)  # every frame, at its time
+    assert packets("seg.mp4", "audio") == packets(clip, "audio")  # the audio as it was
+    keys = [p for p in packets("seg.mp4", "video")]
+    with av.open("seg.mp4") as c:
+        key = sum(p.is_keyframe for p in c.demux(c.streams.video[0]) if p.size)
+    assert key == 8 and len(keys) == 48  # a keyframe at each segment's start
+    ok(None, "video", clip.name, "-o", "one.mp4", "--segment", "100", "--quiet", *ROTATE)
+    for a, b in zip(frames("seg.mp4"), frames("one.mp4"), strict=True):
+        assert psnr(a, b) >= 35  # within codec error (other keyframes)
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGKILL])
+def test_resume_after_a_kill_gives_the_same_file(clip, sig):
+    ok(None, "video", clip.name, "-o", "whole.mp4", "--segment", SEG, "--quiet", *ROTATE)
+    p = start("video", clip.name, "-o", "cut.mp4", "--segment", SEG, "--quiet", *ROTATE)
+    wait_for_segments(Path("cut.mp4.parts"), 2, p)
+    p.send_signal(sig)
+    _, err = p.communicate(timeout=60)
+    assert not Path("cut.mp4").exists()  # no output, not even a broken one
+    assert not [f for f in os.listdir() if ".spherewarp-" in f]
+    if sig == signal.SIGINT:
+        assert p.returncode == 130
+        assert err.count("\n") == 1 and "--resume" in err, err
+    done = json.loads(Path("cut.mp4.parts/manifest.json").read_text())["done"]
+    assert 2 <= len(done) < 8
+    code, _, err = run(None, "video", clip.name, "-o", "cut.mp4", "--segment", SEG, "--resume",
+                       "--progress", "json", *ROTATE)  # fmt: skip
+    assert code == 0, err
+    first = json.loads(err.splitlines()[0])
+    assert first["frames"] >= 6 * len(done)  # the finished segments are not rendered again
+    assert digest("cut.mp4") == digest("whole.mp4")
+    assert not Path("cut.mp4.parts").exists()
+
+
+def test_resume_refuses_another_render(clip):
+    p = start("video", clip.name, "-o", "x.mp4", "--segment", SEG, "--quiet", *ROTATE)
+    wait_for_segments(Path("x.mp4.parts"), 1, p)
+    p.send_signal(signal.SIGINT)
+    p.communicate(timeout=60)
+    code, _, err = run(None, "video", clip.name, "-o", "x.mp4", "--segment", SEG, "--resume",
+                       "rotate", "--yaw", "31")  # fmt: skip
+    assert code == 2 and err.count("\n") == 1, err
+    assert "--resume" in err and "other options" in err and "without --resume" in err
+    assert not Path("x.mp4").exists()
+
+
+def test_progress_json_lines(clip):
+    code, _, err = run(None, "video", clip.name, "-o", "p.mp4", "--segment", SEG,
+                       "--progress", "json", *ROTATE)  # fmt: skip
+    assert code == 0, err
+    lines = [json.loads(line) for line in err.splitlines()]
+    assert lines[-1]["frames"] == lines[-1]["total"] == 48 and lines[-1]["eta"] == 0
+    assert all(set(x) == {"frames", "total", "fps", "eta"} for x in lines)
+    code, _, err = run(None, "video", clip.name, "-o", "q.mp4", "--quiet", *ROTATE)
+    assert code == 0 and err == "", err
+
+
+def test_jobs_two_gives_the_same_file(clip):
+    ok(None, "video", clip.name, "-o", "one.mp4", "--segment", SEG, "--quiet", *ROTATE)
+    ok(None, "video", clip.name, "-o", "two.mp4", "--segment", SEG, "--jobs", "2", "--quiet",
+       *ROTATE)  # fmt: skip
+    assert digest("one.mp4") == digest("two.mp4")
+
+
+def test_ctrl_c_with_jobs_says_one_line(clip):
+    p = start("video", clip.name, "-o", "j.mp4", "--segment", SEG, "--jobs", "2", "--quiet",
+              *ROTATE)  # fmt: skip
+    wait_for_segments(Path("j.mp4.parts"), 1, p)
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=60)
+    assert p.returncode == 130 and err.count("\n") == 1 and "--resume" in err, err
+    assert not Path("j.mp4").exists()
+
+
+def test_dask_without_dask_says_how_to_install(clip, workdir):
+    blocker = workdir / "nodask"
+    blocker.mkdir()
+    for name in ("distributed", "dask"):  # modules that fail to import, ahead of the real ones
+        (blocker / f"{name}.py").write_text("raise ImportError('hidden for the test')\n")
+    env = {**os.environ, "PYTHONPATH": f"{blocker}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"}
+    p = start("video", clip.name, "-o", "d.mp4", "--dask", "tcp://127.0.0.1:1", *ROTATE, env=env)
+    _, err = p.communicate(timeout=120)
+    assert p.returncode == 2 and err.count("\n") == 1, err
+    assert 'pip install "spherewarp[dask]"' in err
+    assert not Path("d.mp4").exists()
