@@ -243,7 +243,9 @@ def test_mobius_matrix_pushes_forward(capsys, pattern_png):
 
 
 def test_mobius_matrix_print(capsys, pattern_png):
-    forward = map_from_json(ok(capsys, "mobius", pattern_png, "--matrix", "1,0.5,0,1", "--print-map"))
+    forward = map_from_json(
+        ok(capsys, "mobius", pattern_png, "--matrix", "1,0.5,0,1", "--print-map")
+    )
     assert forward == Mobius([[1, 0.5], [0, 1]])
     assert complex(forward(1j)) == pytest.approx(0.5 + 1j)
     assert not Path("in-mobius.png").exists()

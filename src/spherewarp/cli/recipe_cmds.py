@@ -87,7 +87,8 @@ def command_recipe(data: dict[str, Any], base: Path | None = None) -> Any:
         if m is None:
             raise
         where = "" if m.group(1) is None else "--" + m.group(1).replace("_", "-") + m.group(2)
-        raise InvalidValueError(f"{where}: {exc.detail}" if where else exc.detail) from None
+        detail = exc.cli_detail  # the message naming CLI options, where it has one
+        raise InvalidValueError(f"{where}: {detail}" if where else detail) from None
 
 
 def print_options(func: Callable) -> Callable:

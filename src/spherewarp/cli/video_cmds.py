@@ -276,7 +276,7 @@ def _run(
     as :func:`spherewarp.io.video.render_video` takes it); ``view``: a recipe's, used
     unless the command line names an output grid; ``pose``: what the input's spherical pose
     must follow (default: ``forward``, a turn it follows; with ``pull``, none)."""
-    from ..io.video import VIDEO_EXTENSIONS, render_video
+    from ..io.video import VIDEO_EXTENSIONS
     from ._files import job
 
     o = ctx.obj

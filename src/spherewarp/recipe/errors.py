@@ -16,6 +16,8 @@ class RecipeError(InvalidValueError):
         Where in the recipe: ``"steps[1].zoom.factor"`` (empty for the whole text).
     message : str
         What was expected and what was found.
+    cli : str, optional
+        The message as the command line shows it (naming CLI options), if it differs.
 
     Examples
     --------
@@ -26,7 +28,9 @@ class RecipeError(InvalidValueError):
     'steps[1].zoom.factor'
     """
 
-    def __init__(self, path: str, message: str) -> None:
-        super().__init__(f"{path}: {message}" if path else message)
+    def __init__(self, path: str, message: str, *, cli: str | None = None) -> None:
+        where = f"{path}: " if path else ""
+        super().__init__(where + message, cli=None if cli is None else where + cli)
         self.path = path
         self.detail = message
+        self.cli_detail = message if cli is None else cli

@@ -62,7 +62,8 @@ class Step:
             raise RecipeError(where, exc.detail) from None
         except (InvalidValueError, InvalidTypeError) as exc:
             when = f" at t = {t:g}" if self.animated else ""
-            raise RecipeError(f"{self.path}.{self.effect}", f"{exc}{when}") from None
+            cli = exc.cli_message + when if exc.cli_message != str(exc) else None
+            raise RecipeError(f"{self.path}.{self.effect}", f"{exc}{when}", cli=cli) from None
 
     @property
     def animated(self) -> bool:
