@@ -58,7 +58,8 @@ def test_state_and_assets(served):
     assert status == 200
     assert state["image"] == {"width": 64, "height": 32, "name": "pano.png"}
     assert "#define STAGE_MOBIUS 1" in state["glsl_header"]
-    assert state["stages"]["codes"] == [1]
+    assert state["stages"]["codes"] == []  # no steps: no stages
+    assert "#define STAGE_EXPRESSION 64" in state["glsl_header"]
     status, data, r = _req(srv, "GET", "/image")
     assert status == 200 and r.getheader("Content-Type") == "image/png"
     assert data[:8] == b"\x89PNG\r\n\x1a\n"
@@ -78,9 +79,24 @@ def test_stages_of_a_posted_recipe(served):
     status, data, _ = _req(srv, "POST", "/api/stages", json.dumps(recipe).encode(), origin)
     assert status == 200, data
     assert 2 in json.loads(data)["stages"]["codes"]
-    # an expression map has no compiled stage: the page is told why
-    expr = {"spherewarp": 1, "steps": [{"map": {"expr": "z**2 + 1/z"}}]}
+    # an expression map: the shader-only stage 64 and its GLSL, made from the tree (its
+    # numbers go in the row, never into the GLSL text)
+    expr = {"spherewarp": 1, "steps": [{"map": {"expr": "z**2 + 0.25/z"}}]}
     status, data, _ = _req(srv, "POST", "/api/stages", json.dumps(expr).encode(), origin)
+    assert status == 200
+    st = json.loads(data)["stages"]
+    assert st["codes"] == [64] and "expr0" in st["glsl"] and "0.25" not in st["glsl"]
+    assert st["rows"][0][:1] == [0.0] and 0.25 in st["rows"][0]
+    # hostile expressions: a 400 with the expression parser's line, nothing compiled
+    for bad in ("__import__('os').system('id')", "z.real", "z; }", "exp(" * 60 + "z" + ")" * 60):
+        body = json.dumps({"spherewarp": 1, "steps": [{"map": {"expr": bad}}]}).encode()
+        status, data, _ = _req(srv, "POST", "/api/stages", body, origin)
+        assert status == 400, bad
+        err = json.loads(data)["error"]
+        assert err.startswith("recipe: ") and "\n" not in err, err
+    # a map with no compiled stage at all (the exact Lattès map): the page is told why
+    exact = {"spherewarp": 1, "steps": [{"lattes": {"alpha": "1+i", "exact": True}}]}
+    status, data, _ = _req(srv, "POST", "/api/stages", json.dumps(exact).encode(), origin)
     assert status == 200
     assert json.loads(data)["stages"]["codes"] is None
 

@@ -1,5 +1,5 @@
 // spherewarp view: the page. Raw WebGL2 (one full-screen fragment shader, see shader.js).
-import { BODY, VERTEX } from "./shader.js";
+import { BODY, VERTEX, withExpressions } from "./shader.js";
 
 const MAX_STAGES = 32;
 const DEG = Math.PI / 180;
@@ -31,33 +31,56 @@ const S = {
 
 // -- WebGL ---------------------------------------------------------------------------------------
 const gl = canvas.getContext("webgl2", { preserveDrawingBuffer: true, antialias: false });
-let prog = null;
+const UNIFORMS = ["uImage", "uParams", "uCodes", "uCount", "uView", "uSize", "uLook", "uPlanet",
+  "uSS", "uPattern", "uOverlay", "uLabels"];
 let uni = {};
 let paramsTex = null;
+let labelsTex = null;
+let header = "";
+const programs = new Map(); // the GLSL of the expression maps -> {prog, uni}
+let current = null; // that GLSL, of the program in use
 
-function compile(header) {
-  const src = `#version 300 es\nprecision highp float;\nprecision highp int;\n#define MAX_STAGES ${MAX_STAGES}\n${header}\n${BODY}`;
-  const mk = (type, text) => {
-    const sh = gl.createShader(type);
-    gl.shaderSource(sh, text);
-    gl.compileShader(sh);
-    if (!gl.getShaderParameter(sh, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(sh));
-    return sh;
-  };
-  prog = gl.createProgram();
-  gl.attachShader(prog, mk(gl.VERTEX_SHADER, VERTEX));
-  gl.attachShader(prog, mk(gl.FRAGMENT_SHADER, src));
-  gl.linkProgram(prog);
-  if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(prog));
-  gl.useProgram(prog);
-  for (const n of ["uImage", "uParams", "uCodes", "uCount", "uView", "uSize", "uLook", "uPlanet", "uSS", "uPattern", "uOverlay"])
-    uni[n] = gl.getUniformLocation(prog, n);
+// a program for the recipe's expression maps (the shader with their functions), cached
+function useProgram(glsl, slots) {
+  const key = `${slots}\n${glsl}`;
+  if (current === key) return;
+  let p = programs.get(key);
+  if (!p) {
+    // the server's functions are fixed pieces (spherewarp/viewer/glsl.py): refuse anything else
+    if (!/^[A-Za-z0-9_\s(){},;=+\-*]*$/.test(glsl)) throw new Error("unexpected expression GLSL");
+    const src = `#version 300 es\nprecision highp float;\nprecision highp int;\n#define MAX_STAGES ${MAX_STAGES}\n${header}\n${withExpressions(BODY, glsl, slots)}`;
+    const mk = (type, text) => {
+      const sh = gl.createShader(type);
+      gl.shaderSource(sh, text);
+      gl.compileShader(sh);
+      if (!gl.getShaderParameter(sh, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(sh));
+      return sh;
+    };
+    const prog = gl.createProgram();
+    gl.attachShader(prog, mk(gl.VERTEX_SHADER, VERTEX));
+    gl.attachShader(prog, mk(gl.FRAGMENT_SHADER, src));
+    gl.bindAttribLocation(prog, 0, "pos");
+    gl.linkProgram(prog);
+    if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(prog));
+    const u = {};
+    for (const n of UNIFORMS) u[n] = gl.getUniformLocation(prog, n);
+    p = { prog, uni: u };
+    if (programs.size > 16) programs.clear();
+    programs.set(key, p);
+  }
+  gl.useProgram(p.prog);
+  uni = p.uni;
+  current = key;
+}
+
+function compile(hdr) {
+  header = hdr;
+  useProgram("", 0);
   const buf = gl.createBuffer();
   gl.bindBuffer(gl.ARRAY_BUFFER, buf);
   gl.bufferData(gl.ARRAY_BUFFER, new Float32Array([-1, -1, 3, -1, -1, 3]), gl.STATIC_DRAW);
-  const loc = gl.getAttribLocation(prog, "pos");
-  gl.enableVertexAttribArray(loc);
-  gl.vertexAttribPointer(loc, 2, gl.FLOAT, false, 0, 0);
+  gl.enableVertexAttribArray(0);
+  gl.vertexAttribPointer(0, 2, gl.FLOAT, false, 0, 0);
 }
 
 function uploadImage(img, unit = 0) {
@@ -72,15 +95,34 @@ function uploadImage(img, unit = 0) {
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.REPEAT);
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
-  gl.uniform1i(unit === 0 ? uni.uImage : uni.uPattern, unit);
 }
 
 // the stages this shader runs (shader.js); a stage added to the table later is named, not
 // run wrongly
-const SHADER_STAGES = ["mobius", "power", "exp", "rational", "droste", "schottky"];
+const SHADER_STAGES = ["mobius", "power", "exp", "rational", "droste", "schottky", "schottky_mask", "expression"];
 
-function uploadStages(st) {
-  S.stages = st;
+function floatTexture(tex, unit, w, h, data) {
+  gl.activeTexture(gl.TEXTURE0 + unit);
+  gl.bindTexture(gl.TEXTURE_2D, tex);
+  gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+  gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, w, h, 0, gl.RED, gl.FLOAT, data);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+}
+
+// a masked Schottky stage's labels: fetched once by their key (int16), kept as a texture
+async function uploadLabels(lab) {
+  if (S.labelsKey === lab.key) return;
+  const r = await fetch(`api/labels/${lab.key}`);
+  if (!r.ok) throw new Error(`labels: HTTP ${r.status}`);
+  const ints = new Int16Array(await r.arrayBuffer());
+  if (!labelsTex) labelsTex = gl.createTexture();
+  floatTexture(labelsTex, 3, lab.width, lab.height, Float32Array.from(ints));
+  S.labelsKey = lab.key;
+}
+
+async function uploadStages(st) {
+  S.stages = { codes: null };
   if (st.codes === null) {
     status(`no live preview: ${st.missing}`, true);
     return;
@@ -88,28 +130,31 @@ function uploadStages(st) {
   const unknown = st.codes.map((c) => S.stageNames[c]).filter((n) => !SHADER_STAGES.includes(n));
   if (unknown.length) {
     status(`no live preview: the shader has no '${unknown[0]}' stage yet (render full resolution)`, true);
-    S.stages = { codes: null };
     return;
   }
   if (st.codes.length > MAX_STAGES) {
     status(`no live preview: ${st.codes.length} stages (the shader takes ${MAX_STAGES})`, true);
-    S.stages = { codes: null };
     return;
   }
-  const w = Math.max(...st.rows.map((r) => r.length));
-  const data = new Float32Array(w * st.rows.length);
+  const labels = st.labels || [];
+  if (labels.length > 1) {
+    status("no live preview: the shader takes one masked Schottky group", true);
+    return;
+  }
+  const slots = st.codes.filter((c) => S.stageNames[c] === "expression").length;
+  try {
+    useProgram(st.glsl || "", slots);
+    if (labels.length) await uploadLabels(labels[0]);
+  } catch (e) {
+    status(`no live preview: ${e.message}`, true);
+    return;
+  }
+  const w = Math.max(1, ...st.rows.map((r) => r.length));
+  const data = new Float32Array(w * Math.max(1, st.rows.length));
   st.rows.forEach((r, s) => data.set(r, s * w));
   if (!paramsTex) paramsTex = gl.createTexture();
-  gl.activeTexture(gl.TEXTURE1);
-  gl.bindTexture(gl.TEXTURE_2D, paramsTex);
-  gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
-  gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, w, st.rows.length, 0, gl.RED, gl.FLOAT, data);
-  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
-  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
-  gl.uniform1i(uni.uParams, 1);
-  const codes = new Int32Array(MAX_STAGES);
-  codes.set(st.codes);
-  gl.uniform1iv(uni.uCodes, codes);
+  floatTexture(paramsTex, 1, w, Math.max(1, st.rows.length), data);
+  S.stages = st;
 }
 
 function draw() {
@@ -119,6 +164,13 @@ function draw() {
     canvas.height = h;
   }
   gl.viewport(0, 0, w, h);
+  const codes = new Int32Array(MAX_STAGES);
+  if (S.stages && S.stages.codes) codes.set(S.stages.codes);
+  gl.uniform1iv(uni.uCodes, codes);
+  gl.uniform1i(uni.uImage, 0);
+  gl.uniform1i(uni.uParams, 1);
+  gl.uniform1i(uni.uPattern, 2);
+  gl.uniform1i(uni.uLabels, 3);
   gl.uniform1i(uni.uCount, S.stages && S.stages.codes ? S.stages.codes.length : -1);
   gl.uniform1i(uni.uView, { flat: 0, sphere: 1, planet: 2 }[S.view]);
   gl.uniform2f(uni.uSize, w, h);
@@ -194,7 +246,7 @@ async function pump() {
     pending = null;
     try {
       const { stages } = await post("api/stages", recipe);
-      uploadStages(stages);
+      await uploadStages(stages);
       if (stages.codes) status(`${recipe.steps.length} step(s), ${stages.codes.length} stage(s)`);
     } catch (e) {
       status(e.message, true);
@@ -504,8 +556,8 @@ window.spherewarp = {
   pixelToLonLat,
   setRecipe: (r) => commit(r),
   // packed stages straight from Python (maps that no recipe effect makes yet)
-  setStages: (st) => {
-    uploadStages(st);
+  setStages: async (st) => {
+    await uploadStages(st);
     draw();
   },
   settle: () =>

@@ -12,11 +12,22 @@ in vec2 pos;
 void main() { gl_Position = vec4(pos, 0.0, 1.0); }
 `;
 
+// the GLSL of a recipe's expression maps (the server's functions expr0, expr1, ...) and the
+// function that chooses one by its slot; the text of the functions is the server's, made
+// from fixed pieces (spherewarp/viewer/glsl.py), never from what the user typed
+export function withExpressions(body, glsl, slots) {
+  let pick = "vec2 exprEval(int slot, int s, vec2 z) {\n";
+  for (let k = 0; k < slots; k++) pick += `  if (slot == ${k}) return expr${k}(s, z);\n`;
+  pick += "  return z;\n}\n";
+  return body.replace("//@EXPRESSIONS@", () => `${glsl}\n${pick}`);
+}
+
 export const BODY = `
 uniform sampler2D uImage;   // the panorama, mipmapped, RGBA8
 uniform sampler2D uPattern; // the paper's test pattern, for the overlay
 uniform float uOverlay;     // how much of the test pattern is mixed in (0: none)
 uniform highp sampler2D uParams;  // R32F: row s = stage s's parameter row
+uniform highp sampler2D uLabels;  // R32F: a masked Schottky stage's labels (width x height)
 uniform int uCodes[MAX_STAGES];
 uniform int uCount;          // number of stages; -1: the map has none (show a pattern)
 uniform int uView;           // 0 flat, 1 sphere, 2 little planet
@@ -47,6 +58,85 @@ vec4 putPair(float sg, vec2 q) {
 }
 
 vec2 cmul(vec2 a, vec2 b) { return vec2(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x); }
+
+// -- complex arithmetic for the expression stage (maps.expression's functions, NumPy's
+// principal branches; a value beyond BIG stands for the point at infinity) -------------------
+const float BIG = 3.0e38;
+vec2 cadd(vec2 a, vec2 b) { return a + b; }
+vec2 csub(vec2 a, vec2 b) { return a - b; }
+float chypot(vec2 a) {
+  float m = max(abs(a.x), abs(a.y));
+  if (m == 0.0) return 0.0;
+  vec2 u = a / m;
+  return m * sqrt(dot(u, u));
+}
+vec2 cinv(vec2 a) {
+  float m = max(abs(a.x), abs(a.y));
+  if (m == 0.0) return vec2(BIG, 0.0);
+  vec2 u = a / m;
+  return vec2(u.x, -u.y) / (dot(u, u) * m);
+}
+vec2 cdiv(vec2 a, vec2 b) {  // Smith's division: no overflow on the way
+  if (b == vec2(0.0)) return a == vec2(0.0) ? vec2(BIG) : vec2(BIG, 0.0);
+  if (abs(b.x) >= abs(b.y)) {
+    float r = b.y / b.x, d = b.x + b.y * r;
+    return vec2(a.x + a.y * r, a.y - a.x * r) / d;
+  }
+  float r = b.x / b.y, d = b.x * r + b.y;
+  return vec2(a.x * r + a.y, a.y * r - a.x) / d;
+}
+vec2 cexp(vec2 a) { return exp(a.x) * vec2(cos(a.y), sin(a.y)); }
+vec2 clog(vec2 a) {
+  float m = chypot(a);
+  return m == 0.0 ? vec2(-BIG, 0.0) : vec2(log(m), atan(a.y, a.x));
+}
+vec2 csqrt(vec2 a) {
+  float m = chypot(a);
+  if (m == 0.0) return vec2(0.0);
+  if (a.x >= 0.0) {
+    float t = sqrt(0.5 * (m + a.x));
+    return vec2(t, a.y / (2.0 * t));
+  }
+  float t = sqrt(0.5 * (m - a.x));
+  return vec2(abs(a.y) / (2.0 * t), a.y < 0.0 ? -t : t);
+}
+vec2 csin(vec2 a) { return vec2(sin(a.x) * cosh(a.y), cos(a.x) * sinh(a.y)); }
+vec2 ccos(vec2 a) { return vec2(cos(a.x) * cosh(a.y), -sin(a.x) * sinh(a.y)); }
+vec2 csinh(vec2 a) { return vec2(sinh(a.x) * cos(a.y), cosh(a.x) * sin(a.y)); }
+vec2 ccosh(vec2 a) { return vec2(cosh(a.x) * cos(a.y), sinh(a.x) * sin(a.y)); }
+vec2 ctan(vec2 a) {
+  if (abs(a.y) > 20.0) return vec2(0.0, a.y > 0.0 ? 1.0 : -1.0);
+  float d = cos(2.0 * a.x) + cosh(2.0 * a.y);
+  return d == 0.0 ? vec2(BIG, 0.0) : vec2(sin(2.0 * a.x), sinh(2.0 * a.y)) / d;
+}
+vec2 ctanh(vec2 a) {
+  if (abs(a.x) > 20.0) return vec2(a.x > 0.0 ? 1.0 : -1.0, 0.0);
+  float d = cosh(2.0 * a.x) + cos(2.0 * a.y);
+  return d == 0.0 ? vec2(BIG, 0.0) : vec2(sinh(2.0 * a.x), sin(2.0 * a.y)) / d;
+}
+vec2 cabs(vec2 a) { return vec2(chypot(a), 0.0); }
+vec2 cconj(vec2 a) { return vec2(a.x, -a.y); }
+// as NumPy's complex power: integer exponents below 100 by repeated squaring
+vec2 cpow(vec2 u, vec2 v) {
+  if (v == vec2(0.0)) return vec2(1.0, 0.0);
+  if (u == vec2(0.0)) return v.y == 0.0 && v.x > 0.0 ? vec2(0.0) : vec2(BIG);
+  if (v.y == 0.0 && v.x == floor(v.x) && abs(v.x) < 100.0) {
+    int n = int(abs(v.x));
+    vec2 r = vec2(1.0, 0.0), b = u;
+    for (int k = 0; k < 7; k++) {
+      if ((n & 1) == 1) r = cmul(r, b);
+      n >>= 1;
+      if (n == 0) break;
+      b = cmul(b, b);
+    }
+    return v.x < 0.0 ? cdiv(vec2(1.0, 0.0), r) : r;
+  }
+  return cexp(cmul(v, clog(u)));
+}
+// the expression stage's numbers: (re, im) pairs from EXPRESSION_CONSTANTS
+vec2 K(int s, int k) {
+  return vec2(P(s, EXPRESSION_CONSTANTS + k), P(s, EXPRESSION_CONSTANTS + k + 1));
+}
 
 vec4 stageMobius(int s, vec4 v) {
   mat4 L;  // row-major in the row: L[col][row] in GLSL
@@ -157,6 +247,61 @@ vec4 stageSchottky(int s, vec4 v) {
   return vec4(-1.0, 0.0, 0.0, 0.0);
 }
 
+// the masked Schottky stage's label at the homogeneous point v (as _kernels._mask_label)
+int maskLabel(int s, vec4 v) {
+  vec3 p = v.yzw / v.x;
+  float lon = atan(p.y, p.x), lat = atan(p.z, length(p.xy));
+  int w = int(P(s, SCHOTTKY_MASK_WIDTH)), h = int(P(s, SCHOTTKY_MASK_HEIGHT));
+  int ix = int(floor((lon + PI) * float(w) / (2.0 * PI)));
+  ix = ((ix % w) + w) % w;
+  int iy = clamp(int(floor((0.5 * PI - lat) * float(h) / PI)), 0, h - 1);
+  return int(texelFetch(uLabels, ivec2(ix, iy), 0).r);
+}
+
+// as _kernels._stage_schottky_mask: move 2i (D_x) where the label is i, then X; move 2i + 1
+// (D_X) where the label of X^-1 of the point is not i; t < 0: still in a disk after depth
+vec4 stageSchottkyMask(int s, vec4 v) {
+  int nm = 2 * int(P(s, SCHOTTKY_MASK_COUNT));
+  int depth = int(P(s, SCHOTTKY_MASK_DEPTH));
+  int last = -1;
+  for (int it = 0; it <= 4096; it++) {
+    int move = -1;
+    vec4 v2 = v;
+    int here = maskLabel(s, v);
+    for (int j = 0; j < 512; j++) {
+      if (j >= nm) break;
+      if (j == (last ^ 1)) continue;
+      int i = j >> 1;
+      if ((j & 1) == 0 && here != i) continue;
+      int o = SCHOTTKY_MASK_DATA + 16 * j;
+      mat4 L;
+      for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++) L[b][a] = P(s, o + 4 * a + b);
+      v2 = L * v;
+      if ((j & 1) == 0 || maskLabel(s, v2) != i) { move = j; break; }
+    }
+    if (move < 0) return v;
+    if (it >= depth) return vec4(-1.0, 0.0, 0.0, 0.0);
+    v = v2 / v2.x;
+    last = move;
+  }
+  return vec4(-1.0, 0.0, 0.0, 0.0);
+}
+
+// the expression maps of the recipe: vec2 expr<slot>(int s, vec2 z), made by the server from
+// each expression's tree (spherewarp.viewer.glsl), and exprEval(slot, s, z) choosing one
+//@EXPRESSIONS@
+
+// w = f(z) in the chart's coordinate (0 at the zenith): z from the null vector as the power
+// stage reads it, w back as a null vector; a non-finite w is the point at infinity
+vec4 stageExpression(int s, vec4 v) {
+  vec3 a = affine(v);
+  vec2 z = a.x > 0.0 ? a.yz : cinv(a.yz);
+  vec2 w = exprEval(int(P(s, EXPRESSION_SLOT)), s, z);
+  if (!(abs(w.x) <= 1e37 && abs(w.y) <= 1e37)) return vec4(1.0, 0.0, 0.0, -1.0);
+  return dot(w, w) <= 1.0 ? putPair(1.0, w) : putPair(-1.0, cinv(w));
+}
+
 // the output pixel's direction on the sphere, by the view (x from the left, y from the top)
 vec3 outDir(vec2 p) {
   if (uView == 0) {
@@ -190,6 +335,8 @@ vec4 runStages(vec3 d) {
     else if (code == STAGE_RATIONAL) v = stageRational(s, v);
     else if (code == STAGE_DROSTE) v = stageDroste(s, v);
     else if (code == STAGE_SCHOTTKY) v = stageSchottky(s, v);
+    else if (code == STAGE_SCHOTTKY_MASK) v = stageSchottkyMask(s, v);
+    else if (code == STAGE_EXPRESSION) v = stageExpression(s, v);
     if (v.x < 0.0) return v;
   }
   return v;

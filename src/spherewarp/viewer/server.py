@@ -14,7 +14,13 @@ Routes
     "table"}``: the recipe the server was started with, its map packed as
     compiled stages (:func:`packed_stages`), and the stage table for the shader.
 ``POST /api/stages``
-    A recipe in, its packed stages out (400 with the recipe's error line).
+    A recipe in, its packed stages out (400 with the recipe's error line):
+    :func:`packed_stages`, expression maps as GLSL functions made from their
+    syntax tree (:mod:`spherewarp.viewer.glsl`; no text of the recipe reaches
+    the shader).
+``GET /api/labels/KEY``
+    The labels of a masked Schottky stage (``/api/stages`` names their key), as
+    little-endian int16, row-major.
 ``POST /api/render``
     A recipe in; renders it at full resolution with the Python renderer in a
     thread; ``{"job": ID}`` out. ``GET /api/render/ID``: ``{"done", "progress",
@@ -32,8 +38,8 @@ Examples
 >>> import json, urllib.request
 >>> srv = ViewerServer(None, None)
 >>> with urllib.request.urlopen(srv.url + "api/state") as r:
-...     json.load(r)["stages"]["codes"]
-[1]
+...     json.load(r)["stages"]["codes"]  # no steps: no stages
+[]
 >>> srv.close()
 """
 
@@ -64,12 +70,17 @@ _LOOPBACK = {"127.0.0.1", "localhost", "::1"}
 _EMPTY = {"spherewarp": 1, "steps": []}
 
 
-def packed_stages(recipe: Any, t: float = 0.0) -> dict[str, Any]:
-    """The recipe's map at time ``t`` as the compiled stages the CPU kernels run.
+def packed_stages(
+    recipe: Any, t: float = 0.0, labels: dict[str, Any] | None = None
+) -> dict[str, Any]:
+    """The recipe's map at time ``t`` as the stages the shader runs.
 
-    Returns ``{"codes": [...], "rows": [[...], ...]}`` (one float row per stage,
-    the layout of :mod:`spherewarp.render.stages`), or ``{"codes": None,
-    "missing": why}`` when some part of the map has no compiled stage.
+    Returns ``{"codes": [...], "rows": [[...], ...], "glsl": ..., "labels": [...]}``:
+    one float row per stage (the layout of :mod:`spherewarp.render.stages`, and the
+    shader-only expression stage of :mod:`spherewarp.viewer.glsl` with its GLSL
+    functions), a masked Schottky stage's labels by key (stored in ``labels``, if
+    given: the page fetches them from ``/api/labels/KEY``); or ``{"codes": None,
+    "missing": why}`` when some part of the map has no stage.
 
     Examples
     --------
@@ -77,18 +88,25 @@ def packed_stages(recipe: Any, t: float = 0.0) -> dict[str, Any]:
     >>> r = Recipe.from_dict({"spherewarp": 1, "steps": [{"power": {"n": 3}}]})
     >>> packed_stages(r)["codes"]
     [2]
+    >>> r = Recipe.from_dict({"spherewarp": 1, "steps": [{"map": {"expr": "z**2"}}]})
+    >>> packed_stages(r)["codes"], packed_stages(r)["glsl"].splitlines()[0]
+    ([64], 'vec2 expr0(int s, vec2 z) {')
     """
-    from ..render.fast import kernel_spec
+    from .glsl import shader_spec
 
     m = recipe.map_at(t)
-    spec = kernel_spec(m)
+    spec = shader_spec(m)
     if spec is None:
         return {
             "codes": None,
             "missing": f"{type(m).__name__} has no compiled stage (the shader runs only "
             "compiled stages; 'spherewarp render' renders it on the CPU)",
         }
-    return {"codes": spec.codes.tolist(), "rows": spec.params.tolist()}
+    if labels is not None:
+        if len(labels) > 8:
+            labels.clear()
+        labels.update(spec.labels)
+    return spec.as_json()
 
 
 def _png_bytes(pixels: np.ndarray) -> bytes:
@@ -147,6 +165,7 @@ class ViewerServer:
         self.image_png = _png_bytes(self.image.pixels)
         self.recipe = Recipe.load(recipe) if recipe is not None else Recipe.from_dict(_EMPTY)
         self.jobs: dict[str, _Job] = {}
+        self.labels: dict[str, Any] = {}  # masked Schottky labels by key (/api/labels/KEY)
         self._pattern: bytes | None = None
         self.tmp = Path(tempfile.mkdtemp(prefix="spherewarp-view-"))
         self.httpd = ThreadingHTTPServer((host, port), _Handler)
@@ -184,14 +203,15 @@ class ViewerServer:
     # -- the API --------------------------------------------------------------------------
     def state(self) -> dict[str, Any]:
         from ..render import stages
+        from .glsl import EXPRESSION, glsl_header
 
         h, w = self.image.pixels.shape[:2]
         return {
             "recipe": self.recipe.to_dict(),
             "image": {"width": w, "height": h, "name": self.image_path.name},
-            "stages": packed_stages(self.recipe),
-            "glsl_header": stages.glsl_header(),
-            "table": json.loads(stages.as_json()),
+            "stages": packed_stages(self.recipe, labels=self.labels),
+            "glsl_header": glsl_header(),
+            "table": json.loads(stages.as_json(extra=(EXPRESSION,))),
         }
 
     def start_render(self, recipe: Any) -> str:
@@ -326,7 +346,7 @@ class _Handler(BaseHTTPRequestHandler):
             if path == "/api/stages":
                 recipe = self._recipe()
                 try:
-                    self._json({"stages": packed_stages(recipe)})
+                    self._json({"stages": packed_stages(recipe, labels=self.viewer.labels)})
                 except Exception as exc:
                     raise _Error(400, f"recipe: {exc}") from None
             elif path == "/api/render":
@@ -344,6 +364,11 @@ class _Handler(BaseHTTPRequestHandler):
             return self._send(200, v.image_png, "image/png")
         if path == "/testpattern":
             return self._send(200, v.pattern_png(), "image/png")
+        if path.startswith("/api/labels/"):
+            found = v.labels.get(path[len("/api/labels/") :])
+            if found is None:
+                raise _Error(404, "no such labels")
+            return self._send(200, found[2].astype("<i2").tobytes(), "application/octet-stream")
         if path.startswith("/api/render/"):
             parts = path[len("/api/render/") :].split("/")
             job = v.jobs.get(parts[0])

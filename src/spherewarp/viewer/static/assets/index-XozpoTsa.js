@@ -1,0 +1,382 @@
+(function(){const a=document.createElement("link").relList;if(a&&a.supports&&a.supports("modulepreload"))return;for(const s of document.querySelectorAll('link[rel="modulepreload"]'))r(s);new MutationObserver(s=>{for(const c of s)if(c.type==="childList")for(const i of c.addedNodes)i.tagName==="LINK"&&i.rel==="modulepreload"&&r(i)}).observe(document,{childList:!0,subtree:!0});function o(s){const c={};return s.integrity&&(c.integrity=s.integrity),s.referrerPolicy&&(c.referrerPolicy=s.referrerPolicy),s.crossOrigin==="use-credentials"?c.credentials="include":s.crossOrigin==="anonymous"?c.credentials="omit":c.credentials="same-origin",c}function r(s){if(s.ep)return;s.ep=!0;const c=o(s);fetch(s.href,c)}})();const Z=`#version 300 es
+in vec2 pos;
+void main() { gl_Position = vec4(pos, 0.0, 1.0); }
+`;function Q(e,a,o){let r=`vec2 exprEval(int slot, int s, vec2 z) {
+`;for(let s=0;s<o;s++)r+=`  if (slot == ${s}) return expr${s}(s, z);
+`;return r+=`  return z;
+}
+`,e.replace("//@EXPRESSIONS@",()=>`${a}
+${r}`)}const ee=`
+uniform sampler2D uImage;   // the panorama, mipmapped, RGBA8
+uniform sampler2D uPattern; // the paper's test pattern, for the overlay
+uniform float uOverlay;     // how much of the test pattern is mixed in (0: none)
+uniform highp sampler2D uParams;  // R32F: row s = stage s's parameter row
+uniform highp sampler2D uLabels;  // R32F: a masked Schottky stage's labels (width x height)
+uniform int uCodes[MAX_STAGES];
+uniform int uCount;          // number of stages; -1: the map has none (show a pattern)
+uniform int uView;           // 0 flat, 1 sphere, 2 little planet
+uniform vec2 uSize;          // the canvas in pixels
+uniform vec3 uLook;          // yaw, pitch (radians), field of view (radians, horizontal)
+uniform float uPlanet;       // little planet: scale of the plane
+uniform int uSS;             // sub-samples per pixel along each axis (1 to 4)
+out vec4 color;
+
+const float PI = 3.14159265358979;
+
+float P(int s, int i) {
+  return texelFetch(uParams, ivec2(i, s), 0).r;
+}
+
+// (sign, Re q, Im q) of the null vector (t, x, y, z), as _kernels._affine
+vec3 affine(vec4 v) {
+  float sg = v.w >= 0.0 ? 1.0 : -1.0;
+  float s = -1.0 / (v.x + abs(v.w));
+  return vec3(sg, v.y * s, sg * (v.z * s));
+}
+
+// the point (q, 1) (sg = 1) or (1, q) as a null vector with t = 1, as _kernels._put_pair
+vec4 putPair(float sg, vec2 q) {
+  float r2 = dot(q, q);
+  float inv = 1.0 / (1.0 + r2);
+  return vec4(1.0, -2.0 * q.x * inv, -2.0 * sg * q.y * inv, sg * (1.0 - r2) * inv);
+}
+
+vec2 cmul(vec2 a, vec2 b) { return vec2(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x); }
+
+// -- complex arithmetic for the expression stage (maps.expression's functions, NumPy's
+// principal branches; a value beyond BIG stands for the point at infinity) -------------------
+const float BIG = 3.0e38;
+vec2 cadd(vec2 a, vec2 b) { return a + b; }
+vec2 csub(vec2 a, vec2 b) { return a - b; }
+float chypot(vec2 a) {
+  float m = max(abs(a.x), abs(a.y));
+  if (m == 0.0) return 0.0;
+  vec2 u = a / m;
+  return m * sqrt(dot(u, u));
+}
+vec2 cinv(vec2 a) {
+  float m = max(abs(a.x), abs(a.y));
+  if (m == 0.0) return vec2(BIG, 0.0);
+  vec2 u = a / m;
+  return vec2(u.x, -u.y) / (dot(u, u) * m);
+}
+vec2 cdiv(vec2 a, vec2 b) {  // Smith's division: no overflow on the way
+  if (b == vec2(0.0)) return a == vec2(0.0) ? vec2(BIG) : vec2(BIG, 0.0);
+  if (abs(b.x) >= abs(b.y)) {
+    float r = b.y / b.x, d = b.x + b.y * r;
+    return vec2(a.x + a.y * r, a.y - a.x * r) / d;
+  }
+  float r = b.x / b.y, d = b.x * r + b.y;
+  return vec2(a.x * r + a.y, a.y * r - a.x) / d;
+}
+vec2 cexp(vec2 a) { return exp(a.x) * vec2(cos(a.y), sin(a.y)); }
+vec2 clog(vec2 a) {
+  float m = chypot(a);
+  return m == 0.0 ? vec2(-BIG, 0.0) : vec2(log(m), atan(a.y, a.x));
+}
+vec2 csqrt(vec2 a) {
+  float m = chypot(a);
+  if (m == 0.0) return vec2(0.0);
+  if (a.x >= 0.0) {
+    float t = sqrt(0.5 * (m + a.x));
+    return vec2(t, a.y / (2.0 * t));
+  }
+  float t = sqrt(0.5 * (m - a.x));
+  return vec2(abs(a.y) / (2.0 * t), a.y < 0.0 ? -t : t);
+}
+vec2 csin(vec2 a) { return vec2(sin(a.x) * cosh(a.y), cos(a.x) * sinh(a.y)); }
+vec2 ccos(vec2 a) { return vec2(cos(a.x) * cosh(a.y), -sin(a.x) * sinh(a.y)); }
+vec2 csinh(vec2 a) { return vec2(sinh(a.x) * cos(a.y), cosh(a.x) * sin(a.y)); }
+vec2 ccosh(vec2 a) { return vec2(cosh(a.x) * cos(a.y), sinh(a.x) * sin(a.y)); }
+vec2 ctan(vec2 a) {
+  if (abs(a.y) > 20.0) return vec2(0.0, a.y > 0.0 ? 1.0 : -1.0);
+  float d = cos(2.0 * a.x) + cosh(2.0 * a.y);
+  return d == 0.0 ? vec2(BIG, 0.0) : vec2(sin(2.0 * a.x), sinh(2.0 * a.y)) / d;
+}
+vec2 ctanh(vec2 a) {
+  if (abs(a.x) > 20.0) return vec2(a.x > 0.0 ? 1.0 : -1.0, 0.0);
+  float d = cosh(2.0 * a.x) + cos(2.0 * a.y);
+  return d == 0.0 ? vec2(BIG, 0.0) : vec2(sinh(2.0 * a.x), sin(2.0 * a.y)) / d;
+}
+vec2 cabs(vec2 a) { return vec2(chypot(a), 0.0); }
+vec2 cconj(vec2 a) { return vec2(a.x, -a.y); }
+// as NumPy's complex power: integer exponents below 100 by repeated squaring
+vec2 cpow(vec2 u, vec2 v) {
+  if (v == vec2(0.0)) return vec2(1.0, 0.0);
+  if (u == vec2(0.0)) return v.y == 0.0 && v.x > 0.0 ? vec2(0.0) : vec2(BIG);
+  if (v.y == 0.0 && v.x == floor(v.x) && abs(v.x) < 100.0) {
+    int n = int(abs(v.x));
+    vec2 r = vec2(1.0, 0.0), b = u;
+    for (int k = 0; k < 7; k++) {
+      if ((n & 1) == 1) r = cmul(r, b);
+      n >>= 1;
+      if (n == 0) break;
+      b = cmul(b, b);
+    }
+    return v.x < 0.0 ? cdiv(vec2(1.0, 0.0), r) : r;
+  }
+  return cexp(cmul(v, clog(u)));
+}
+// the expression stage's numbers: (re, im) pairs from EXPRESSION_CONSTANTS
+vec2 K(int s, int k) {
+  return vec2(P(s, EXPRESSION_CONSTANTS + k), P(s, EXPRESSION_CONSTANTS + k + 1));
+}
+
+vec4 stageMobius(int s, vec4 v) {
+  mat4 L;  // row-major in the row: L[col][row] in GLSL
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) L[j][i] = P(s, MOBIUS_L00 + 4 * i + j);
+  return L * v;
+}
+
+vec4 stagePower(int s, vec4 v) {
+  float m = P(s, POWER_M);
+  int am = int(abs(m));
+  vec3 a = affine(v);
+  vec2 q = a.yz;
+  vec2 b = vec2(1.0, 0.0);
+  for (int k = 0; k < 1024; k++) {
+    if (k >= am) break;
+    b = cmul(b, q);
+  }
+  return putPair(a.x * (m > 0.0 ? 1.0 : -1.0), b);
+}
+
+vec4 stageExp(int s, vec4 v) {
+  float lam = P(s, EXP_LAM), near = P(s, EXP_NEAR);
+  float t = v.x, x = v.y, y = v.z, z = v.w;
+  float d = x < 0.0 ? (y * y + z * z) / (t - x) : t + x;
+  if (d < near * t) return vec4(1.0, 0.0, 0.0, z >= 0.0 ? 1.0 : -1.0);
+  float phi = -lam * y / d;
+  float sr = -lam * z / d;
+  float e = exp(-abs(sr));
+  float w = 1.0 / (1.0 + e * e);
+  float zs = (1.0 - e * e) * w;
+  return vec4(1.0, 2.0 * e * cos(phi) * w, -2.0 * e * sin(phi) * w, sr <= 0.0 ? zs : -zs);
+}
+
+vec4 stageRational(int s, vec4 v) {
+  int d = int(P(s, RATIONAL_DEGREE));
+  int on = RATIONAL_COEFFICIENTS;
+  int od = RATIONAL_COEFFICIENTS + 2 * (d + 1);
+  vec3 a = affine(v);
+  vec2 q = a.yz;
+  bool up = a.x > 0.0;
+  vec2 n = vec2(0.0), dd = vec2(0.0);
+  for (int j = 0; j < 4096; j++) {
+    if (j > d) break;
+    int k = up ? j : d - j;  // (q, 1): highest degree first; (1, q): the lists backwards
+    n = cmul(n, q) + vec2(P(s, on + 2 * k), P(s, on + 2 * k + 1));
+    dd = cmul(dd, q) + vec2(P(s, od + 2 * k), P(s, od + 2 * k + 1));
+  }
+  float a2 = dot(n, n), b2 = dot(dd, dd), tt = a2 + b2;
+  if (!(tt > 0.0)) return vec4(1.0, 0.0, 0.0, 1.0);
+  float inv = 1.0 / tt;
+  return vec4(1.0, -2.0 * (n.x * dd.x + n.y * dd.y) * inv, -2.0 * (n.y * dd.x - n.x * dd.y) * inv,
+              (b2 - a2) * inv);
+}
+
+vec4 stageDroste(int s, vec4 v) {
+  int m = int(P(s, DROSTE_M));
+  float ell = P(s, DROSTE_ELL);
+  vec2 beta = vec2(P(s, DROSTE_BETA_RE), P(s, DROSTE_BETA_IM));
+  float l0 = P(s, DROSTE_PIVOT);
+  vec2 c = vec2(P(s, DROSTE_C_RE), P(s, DROSTE_C_IM));
+  float t = v.x, x = v.y, y = v.z, z = v.w;
+  float rxy = sqrt(x * x + y * y);
+  float lq = log(max(rxy / (t + abs(z)), 1e-30));
+  float u = (z >= 0.0 ? lq : -lq) - l0;
+  float th = atan(-y, -x);
+  float lr = beta.x * u - beta.y * th + c.x;
+  float li = beta.x * th + beta.y * u + c.y;
+  float ths = li - 2.0 * PI * floor((li + PI) / (2.0 * PI));
+  float xi = (ths + PI) * float(m) / (2.0 * PI);
+  float i0f = clamp(floor(xi), 0.0, float(m - 1));
+  float f = xi - i0f;
+  int i0 = int(i0f);
+  int i1 = i0 + 1 < m ? i0 + 1 : 0;
+  float rho = P(s, DROSTE_RHO + i0) * (1.0 - f) + P(s, DROSTE_RHO + i1) * f;
+  float us = lr - floor((lr - rho) / ell) * ell;
+  us = clamp(us, rho, rho + ell);
+  float e = exp(-abs(us));
+  float w = 1.0 / (1.0 + e * e);
+  float zs = (1.0 - e * e) * w;
+  return vec4(1.0, -2.0 * e * cos(ths) * w, -2.0 * e * sin(ths) * w, us <= 0.0 ? zs : -zs);
+}
+
+// returns t < 0 for a point still in a disk after depth moves (invalid)
+vec4 stageSchottky(int s, vec4 v) {
+  int nm = 2 * int(P(s, SCHOTTKY_COUNT));
+  int depth = int(P(s, SCHOTTKY_DEPTH));
+  int last = -1;
+  for (int it = 0; it <= 4096; it++) {
+    int move = -1;
+    for (int j = 0; j < 512; j++) {
+      if (j >= nm) break;
+      int b = SCHOTTKY_MOVES + j * SCHOTTKY_MOVES_SIZE;
+      float dn = P(s, b + SCHOTTKY_MOVES_NX) * v.y + P(s, b + SCHOTTKY_MOVES_NX + 1) * v.z +
+                 P(s, b + SCHOTTKY_MOVES_NX + 2) * v.w;
+      if (j != (last ^ 1) && dn > P(s, b + SCHOTTKY_MOVES_COS_R) * v.x) { move = j; break; }
+    }
+    if (move < 0) return v;
+    if (it >= depth) return vec4(-1.0, 0.0, 0.0, 0.0);
+    int o = SCHOTTKY_MOVES + move * SCHOTTKY_MOVES_SIZE + SCHOTTKY_MOVES_L00;
+    mat4 L;
+    for (int i = 0; i < 4; i++)
+      for (int k = 0; k < 4; k++) L[k][i] = P(s, o + 4 * i + k);
+    v = L * v;
+    v /= v.x;
+    last = move;
+  }
+  return vec4(-1.0, 0.0, 0.0, 0.0);
+}
+
+// the masked Schottky stage's label at the homogeneous point v (as _kernels._mask_label)
+int maskLabel(int s, vec4 v) {
+  vec3 p = v.yzw / v.x;
+  float lon = atan(p.y, p.x), lat = atan(p.z, length(p.xy));
+  int w = int(P(s, SCHOTTKY_MASK_WIDTH)), h = int(P(s, SCHOTTKY_MASK_HEIGHT));
+  int ix = int(floor((lon + PI) * float(w) / (2.0 * PI)));
+  ix = ((ix % w) + w) % w;
+  int iy = clamp(int(floor((0.5 * PI - lat) * float(h) / PI)), 0, h - 1);
+  return int(texelFetch(uLabels, ivec2(ix, iy), 0).r);
+}
+
+// as _kernels._stage_schottky_mask: move 2i (D_x) where the label is i, then X; move 2i + 1
+// (D_X) where the label of X^-1 of the point is not i; t < 0: still in a disk after depth
+vec4 stageSchottkyMask(int s, vec4 v) {
+  int nm = 2 * int(P(s, SCHOTTKY_MASK_COUNT));
+  int depth = int(P(s, SCHOTTKY_MASK_DEPTH));
+  int last = -1;
+  for (int it = 0; it <= 4096; it++) {
+    int move = -1;
+    vec4 v2 = v;
+    int here = maskLabel(s, v);
+    for (int j = 0; j < 512; j++) {
+      if (j >= nm) break;
+      if (j == (last ^ 1)) continue;
+      int i = j >> 1;
+      if ((j & 1) == 0 && here != i) continue;
+      int o = SCHOTTKY_MASK_DATA + 16 * j;
+      mat4 L;
+      for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++) L[b][a] = P(s, o + 4 * a + b);
+      v2 = L * v;
+      if ((j & 1) == 0 || maskLabel(s, v2) != i) { move = j; break; }
+    }
+    if (move < 0) return v;
+    if (it >= depth) return vec4(-1.0, 0.0, 0.0, 0.0);
+    v = v2 / v2.x;
+    last = move;
+  }
+  return vec4(-1.0, 0.0, 0.0, 0.0);
+}
+
+// the expression maps of the recipe: vec2 expr<slot>(int s, vec2 z), made by the server from
+// each expression's tree (spherewarp.viewer.glsl), and exprEval(slot, s, z) choosing one
+//@EXPRESSIONS@
+
+// w = f(z) in the chart's coordinate (0 at the zenith): z from the null vector as the power
+// stage reads it, w back as a null vector; a non-finite w is the point at infinity
+vec4 stageExpression(int s, vec4 v) {
+  vec3 a = affine(v);
+  vec2 z = a.x > 0.0 ? a.yz : cinv(a.yz);
+  vec2 w = exprEval(int(P(s, EXPRESSION_SLOT)), s, z);
+  if (!(abs(w.x) <= 1e37 && abs(w.y) <= 1e37)) return vec4(1.0, 0.0, 0.0, -1.0);
+  return dot(w, w) <= 1.0 ? putPair(1.0, w) : putPair(-1.0, cinv(w));
+}
+
+// the output pixel's direction on the sphere, by the view (x from the left, y from the top)
+vec3 outDir(vec2 p) {
+  if (uView == 0) {
+    float lon = p.x / uSize.x * 2.0 * PI - PI;
+    float lat = 0.5 * PI - p.y / uSize.y * PI;
+    return vec3(cos(lat) * cos(lon), cos(lat) * sin(lon), sin(lat));
+  }
+  vec2 ndc = (2.0 * p - uSize) / uSize.x;  // x in [-1, 1], y down
+  if (uView == 1) {
+    float cy = cos(uLook.x), sy = sin(uLook.x), cp = cos(uLook.y), sp = sin(uLook.y);
+    vec3 f = vec3(cp * cy, cp * sy, sp), r = vec3(-sy, cy, 0.0), u = vec3(-sp * cy, -sp * sy, cp);
+    float k = tan(0.5 * uLook.z);
+    return normalize(f + k * ndc.x * r - k * ndc.y * u);
+  }
+  // little planet: stereographic projection from the zenith, the nadir at the centre
+  vec2 q = ndc * uPlanet;
+  float cy = cos(uLook.x), sy = sin(uLook.x);
+  q = vec2(cy * q.x - sy * q.y, sy * q.x + cy * q.y);
+  float r2 = dot(q, q);
+  return vec3(2.0 * q.x, -2.0 * q.y, r2 - 1.0) / (1.0 + r2);
+}
+
+vec4 runStages(vec3 d) {
+  vec4 v = vec4(1.0, d);
+  for (int s = 0; s < MAX_STAGES; s++) {
+    if (s >= uCount) break;
+    int code = uCodes[s];
+    if (code == STAGE_MOBIUS) v = stageMobius(s, v);
+    else if (code == STAGE_POWER) v = stagePower(s, v);
+    else if (code == STAGE_EXP) v = stageExp(s, v);
+    else if (code == STAGE_RATIONAL) v = stageRational(s, v);
+    else if (code == STAGE_DROSTE) v = stageDroste(s, v);
+    else if (code == STAGE_SCHOTTKY) v = stageSchottky(s, v);
+    else if (code == STAGE_SCHOTTKY_MASK) v = stageSchottkyMask(s, v);
+    else if (code == STAGE_EXPRESSION) v = stageExpression(s, v);
+    if (v.x < 0.0) return v;
+  }
+  return v;
+}
+
+// d lon, d lat of a change dv of the unit direction s (continuous across the seam)
+vec2 lonlatGrad(vec3 s, vec3 dv) {
+  float r2 = max(s.x * s.x + s.y * s.y, 1e-12);
+  float dlon = (s.x * dv.y - s.y * dv.x) / r2;
+  float dlat = dv.z / sqrt(r2);
+  vec2 g = vec2(dlon / (2.0 * PI), dlat / PI);
+  // a jump of the map (a Droste seam, a Schottky disk edge): not a footprint
+  return length(dv) > 0.25 ? vec2(0.0) : g;
+}
+
+vec4 sampleAt(vec2 p, float n) {
+  vec4 v = runStages(outDir(p));
+  vec3 s = v.x < 0.0 ? vec3(1.0, 0.0, 0.0) : normalize(v.yzw);
+  float lon = atan(s.y, s.x);
+  float lat = atan(s.z, length(s.xy));
+  vec2 uv = vec2((lon + PI) / (2.0 * PI), (0.5 * PI - lat) / PI);
+  vec3 dx = dFdx(s) / n, dy = dFdy(s) / n;  // the footprint of one sub-sample
+  vec2 gx = lonlatGrad(s, dx), gy = lonlatGrad(s, dy);
+  vec4 c = textureGrad(uImage, uv, gx, gy);
+  if (uOverlay > 0.0) c = mix(c, textureGrad(uPattern, uv, gx, gy), uOverlay);
+  return v.x < 0.0 ? vec4(0.0, 0.0, 0.0, 1.0) : vec4(c.rgb, 1.0);
+}
+
+void main() {
+  vec2 p = vec2(gl_FragCoord.x, uSize.y - gl_FragCoord.y);
+  if (uCount < 0) {  // no compiled stages: a grey check so that it is plain
+    float c = mod(floor(p.x / 16.0) + floor(p.y / 16.0), 2.0);
+    color = vec4(vec3(0.35 + 0.1 * c), 1.0);
+    return;
+  }
+  // uSS x uSS sub-samples a pixel (a box filter, as the CPU's area anti-aliasing), each
+  // with the mip level of its own footprint
+  float n = float(uSS);
+  vec4 acc = vec4(0.0);
+  for (int i = 0; i < 4; i++) {
+    if (i >= uSS) break;
+    for (int j = 0; j < 4; j++) {
+      if (j >= uSS) break;
+      acc += sampleAt(p + (vec2(float(i), float(j)) + 0.5) / n - 0.5, n);
+    }
+  }
+  color = acc / (n * n);
+}
+`,M=32,b=Math.PI/180,f=e=>document.getElementById(e),S=f("view"),d=(e,a=!1)=>{f("status").textContent=e,f("status").className=a?"bad":""},t={recipe:{spherewarp:1,steps:[]},view:"flat",size:[1024,512],look:[0,0,90],planet:1,pins:[[0,90],[0,-90]],undo:[],redo:[],stages:null,image:null,frames:0,overlay:0,ss:2},n=S.getContext("webgl2",{preserveDrawingBuffer:!0,antialias:!1}),te=["uImage","uParams","uCodes","uCount","uView","uSize","uLook","uPlanet","uSS","uPattern","uOverlay","uLabels"];let y={},j=null,$=null,K="";const z=new Map;let q=null;function F(e,a){const o=`${a}
+${e}`;if(q===o)return;let r=z.get(o);if(!r){if(!/^[A-Za-z0-9_\s(){},;=+\-*]*$/.test(e))throw new Error("unexpected expression GLSL");const s=`#version 300 es
+precision highp float;
+precision highp int;
+#define MAX_STAGES ${M}
+${K}
+${Q(ee,e,a)}`,c=(T,m)=>{const l=n.createShader(T);if(n.shaderSource(l,m),n.compileShader(l),!n.getShaderParameter(l,n.COMPILE_STATUS))throw new Error(n.getShaderInfoLog(l));return l},i=n.createProgram();if(n.attachShader(i,c(n.VERTEX_SHADER,Z)),n.attachShader(i,c(n.FRAGMENT_SHADER,s)),n.bindAttribLocation(i,0,"pos"),n.linkProgram(i),!n.getProgramParameter(i,n.LINK_STATUS))throw new Error(n.getProgramInfoLog(i));const x={};for(const T of te)x[T]=n.getUniformLocation(i,T);r={prog:i,uni:x},z.size>16&&z.clear(),z.set(o,r)}n.useProgram(r.prog),y=r.uni,q=o}function ne(e){K=e,F("",0);const a=n.createBuffer();n.bindBuffer(n.ARRAY_BUFFER,a),n.bufferData(n.ARRAY_BUFFER,new Float32Array([-1,-1,3,-1,-1,3]),n.STATIC_DRAW),n.enableVertexAttribArray(0),n.vertexAttribPointer(0,2,n.FLOAT,!1,0,0)}function G(e,a=0){const o=n.createTexture();n.activeTexture(n.TEXTURE0+a),n.bindTexture(n.TEXTURE_2D,o),n.pixelStorei(n.UNPACK_COLORSPACE_CONVERSION_WEBGL,n.NONE),n.pixelStorei(n.UNPACK_PREMULTIPLY_ALPHA_WEBGL,!1),n.texImage2D(n.TEXTURE_2D,0,n.RGBA8,n.RGBA,n.UNSIGNED_BYTE,e),n.generateMipmap(n.TEXTURE_2D),n.texParameteri(n.TEXTURE_2D,n.TEXTURE_MIN_FILTER,n.LINEAR_MIPMAP_LINEAR),n.texParameteri(n.TEXTURE_2D,n.TEXTURE_MAG_FILTER,n.LINEAR),n.texParameteri(n.TEXTURE_2D,n.TEXTURE_WRAP_S,n.REPEAT),n.texParameteri(n.TEXTURE_2D,n.TEXTURE_WRAP_T,n.CLAMP_TO_EDGE)}const ae=["mobius","power","exp","rational","droste","schottky","schottky_mask","expression"];function B(e,a,o,r,s){n.activeTexture(n.TEXTURE0+a),n.bindTexture(n.TEXTURE_2D,e),n.pixelStorei(n.UNPACK_ALIGNMENT,1),n.texImage2D(n.TEXTURE_2D,0,n.R32F,o,r,0,n.RED,n.FLOAT,s),n.texParameteri(n.TEXTURE_2D,n.TEXTURE_MIN_FILTER,n.NEAREST),n.texParameteri(n.TEXTURE_2D,n.TEXTURE_MAG_FILTER,n.NEAREST)}async function oe(e){if(t.labelsKey===e.key)return;const a=await fetch(`api/labels/${e.key}`);if(!a.ok)throw new Error(`labels: HTTP ${a.status}`);const o=new Int16Array(await a.arrayBuffer());$||($=n.createTexture()),B($,3,e.width,e.height,Float32Array.from(o)),t.labelsKey=e.key}async function H(e){if(t.stages={codes:null},e.codes===null){d(`no live preview: ${e.missing}`,!0);return}const a=e.codes.map(i=>t.stageNames[i]).filter(i=>!ae.includes(i));if(a.length){d(`no live preview: the shader has no '${a[0]}' stage yet (render full resolution)`,!0);return}if(e.codes.length>M){d(`no live preview: ${e.codes.length} stages (the shader takes ${M})`,!0);return}const o=e.labels||[];if(o.length>1){d("no live preview: the shader takes one masked Schottky group",!0);return}const r=e.codes.filter(i=>t.stageNames[i]==="expression").length;try{F(e.glsl||"",r),o.length&&await oe(o[0])}catch(i){d(`no live preview: ${i.message}`,!0);return}const s=Math.max(1,...e.rows.map(i=>i.length)),c=new Float32Array(s*Math.max(1,e.rows.length));e.rows.forEach((i,x)=>c.set(i,x*s)),j||(j=n.createTexture()),B(j,1,s,Math.max(1,e.rows.length),c),t.stages=e}function w(){const[e,a]=t.size;(S.width!==e||S.height!==a)&&(S.width=e,S.height=a),n.viewport(0,0,e,a);const o=new Int32Array(M);t.stages&&t.stages.codes&&o.set(t.stages.codes),n.uniform1iv(y.uCodes,o),n.uniform1i(y.uImage,0),n.uniform1i(y.uParams,1),n.uniform1i(y.uPattern,2),n.uniform1i(y.uLabels,3),n.uniform1i(y.uCount,t.stages&&t.stages.codes?t.stages.codes.length:-1),n.uniform1i(y.uView,{flat:0,sphere:1,planet:2}[t.view]),n.uniform2f(y.uSize,e,a),n.uniform3f(y.uLook,t.look[0]*b,t.look[1]*b,t.look[2]*b),n.uniform1f(y.uPlanet,t.planet),n.uniform1i(y.uSS,t.ss),n.uniform1f(y.uOverlay,t.overlay),n.drawArrays(n.TRIANGLES,0,3),t.frames+=1}function I(e,a){const[o,r]=t.size;if(t.view==="flat")return[e/o*360-180,90-a/r*180];const s=(2*e-o)/o,c=(2*a-r)/o;let i;if(t.view==="sphere"){const[m,l,g]=t.look.map(k=>k*b),h=Math.cos(m),u=Math.sin(m),E=Math.cos(l),P=Math.sin(l),v=Math.tan(g/2);i=[E*h-v*s*u+v*c*P*h,E*u+v*s*h+v*c*P*u,P-v*c*E]}else{let m=s*t.planet,l=c*t.planet;const g=Math.cos(t.look[0]*b),h=Math.sin(t.look[0]*b);[m,l]=[g*m-h*l,h*m+g*l];const u=m*m+l*l;i=[2*m/(1+u),-2*l/(1+u),(u-1)/(1+u)]}const x=Math.atan2(i[1],i[0])/b,T=Math.atan2(i[2],Math.hypot(i[0],i[1]))/b;return[x,T]}function C(e){const a=S.getBoundingClientRect();return[(e.clientX-a.left)*t.size[0]/a.width,(e.clientY-a.top)*t.size[1]/a.height]}const A=e=>e.map(a=>Math.round(a*1e6)/1e6);let R=null,N=!1;async function U(e,a){const o=await fetch(e,{method:"POST",headers:{"Content-Type":"application/json"},body:JSON.stringify(a)}),r=await o.json();if(!o.ok)throw new Error(r.error||`HTTP ${o.status}`);return r}function _(){R=JSON.parse(JSON.stringify(t.recipe)),N||re(),X()}async function re(){for(N=!0;R;){const e=R;R=null;try{const{stages:a}=await U("api/stages",e);await H(a),a.codes&&d(`${e.steps.length} step(s), ${a.codes.length} stage(s)`)}catch(a){d(a.message,!0)}w()}N=!1,t.settled=!0,window.dispatchEvent(new Event("sw-drawn"))}function D(e){t.undo.push(JSON.stringify(t.recipe)),t.redo=[],t.recipe=e,_(),L()}function Y(e,a){e.length&&(a.push(JSON.stringify(t.recipe)),t.recipe=JSON.parse(e.pop()),_(),L())}const V=()=>Y(t.undo,t.redo),J=()=>Y(t.redo,t.undo);function X(){const e=new URLSearchParams;e.set("view",t.view),e.set("size",`${t.size[0]}x${t.size[1]}`),t.ss!==2&&e.set("ss",t.ss),e.set("recipe",JSON.stringify(t.recipe)),history.replaceState(null,"",`?${e}`)}function se(){const e=new URLSearchParams(location.search);["flat","sphere","planet"].includes(e.get("view"))&&(t.view=e.get("view"));const a=/^(\d+)x(\d+)$/.exec(e.get("size")||"");a&&(t.size=[Math.min(+a[1],8192),Math.min(+a[2],8192)]);const o=+e.get("ss");if(o>=1&&o<=4&&(t.ss=Math.round(o)),e.get("recipe"))try{t.recipe=JSON.parse(e.get("recipe"))}catch(r){d(`recipe in the URL: ${r.message}`,!0)}}let p=null;S.addEventListener("mousedown",e=>{e.preventDefault();const[a,o]=C(e),r=I(a,o);if(e.altKey){t.pins=[t.pins[1],A(r)],W();return}if(t.view==="sphere"&&!e.shiftKey){p={look:!0,x:e.clientX,y:e.clientY,start:[...t.look]};return}p={from:A(r),base:JSON.parse(JSON.stringify(t.recipe)),moved:!1}});function ie(e){return{mobius:{from:[p.from,...t.pins],to:[A(e),...t.pins]}}}window.addEventListener("mousemove",e=>{if(!p)return;if(p.look){const o=t.look[2]/S.getBoundingClientRect().width;t.look[0]=p.start[0]+(e.clientX-p.x)*o,t.look[1]=Math.max(-89.9,Math.min(89.9,p.start[1]+(e.clientY-p.y)*o)),w();return}const a=I(...C(e));p.moved=!0,t.recipe={...p.base,steps:[...p.base.steps,ie(a)]},_()});window.addEventListener("mouseup",e=>{if(!p)return;const a=p;if(p=null,a.look||!a.moved)return;const o=I(...C(e));t.undo.push(JSON.stringify(a.base)),t.redo=[],t.recipe={...a.base,steps:[...a.base.steps,{mobius:{from:[a.from,...t.pins],to:[A(o),...t.pins]}}]},_(),L()});S.addEventListener("wheel",e=>{if(e.preventDefault(),e.ctrlKey||e.metaKey||e.altKey){const a=A(I(...C(e))),o=Math.exp(-e.deltaY*.002),r=[...t.recipe.steps],s=r[r.length-1];s&&s.zoom&&s.zoom.at[0]===a[0]&&s.zoom.at[1]===a[1]&&!p?r[r.length-1]={zoom:{at:a,factor:s.zoom.factor*o}}:r.push({zoom:{at:a,factor:o}}),D({...t.recipe,steps:r})}else t.view==="sphere"?(t.look[2]=Math.max(10,Math.min(170,t.look[2]*Math.exp(e.deltaY*.001))),w()):t.view==="planet"&&(t.planet=Math.max(.05,Math.min(20,t.planet*Math.exp(e.deltaY*.001))),w())},{passive:!1});window.addEventListener("keydown",e=>{if(e.ctrlKey||e.metaKey){if(e.key==="z"&&!e.shiftKey)V();else if(e.key==="y"||e.key==="z"&&e.shiftKey)J();else return;e.preventDefault()}});function W(){f("pins").textContent=t.pins.map(e=>`(${e[0].toFixed(1)}, ${e[1].toFixed(1)})`).join(" ")}function L(){const e=f("params");e.replaceChildren(),t.recipe.steps.forEach((a,o)=>{const[r,s]=Object.entries(a)[0],c=document.createElement("fieldset"),i=document.createElement("legend");i.textContent=`${o+1}. ${r}`;const x=document.createElement("button");x.textContent="×",x.title="remove this step",x.onclick=()=>D({...t.recipe,steps:t.recipe.steps.filter((l,g)=>g!==o)}),i.append(" ",x),c.append(i);const T=(l,g,h)=>{const u=g(),E=Math.max(1,Math.abs(u))*2,P=document.createElement("label"),v=document.createElement("input");v.type="range",v.min=u-E,v.max=u+E,v.step=E/500,v.value=u;const k=document.createElement("span");k.textContent=(+u).toPrecision(5);let O=null;v.oninput=()=>{O===null&&(O=JSON.stringify(t.recipe)),h(+v.value),k.textContent=(+v.value).toPrecision(5),_()},v.onchange=()=>{O!==null&&(t.undo.push(O),t.redo=[]),O=null,L()},P.append(`${l} `,v,k),c.append(P)},m=(l,g)=>{for(const[h,u]of Object.entries(l))typeof u=="number"?T(`${g}${h}`,()=>l[h],E=>l[h]=E):(Array.isArray(u)||u&&typeof u=="object"&&!u.keyframes)&&m(u,`${g}${h}.`)};m(s,""),e.append(c)})}function ce(e,a){const o=document.createElement("a");o.href=URL.createObjectURL(a),o.download=e,o.click()}function le(){const e=JSON.stringify(t.recipe,null,1),[a,o]=t.size;return`cat > recipe.json <<'EOF'
+${e}
+EOF
+spherewarp render recipe.json ${t.imageName} -o out.png --size ${a}x${o}`}function ue(){f("undo").onclick=V,f("redo").onclick=J,f("save").onclick=()=>ce("recipe.json",new Blob([JSON.stringify(t.recipe,null,2)+`
+`],{type:"application/json"})),f("load").onchange=async e=>{const a=e.target.files[0];if(a)try{const o=JSON.parse(await a.text());await U("api/stages",o),D(o)}catch(o){d(`${a.name}: ${o.message}`,!0)}},f("copy").onclick=async()=>{const e=le();f("cli").value=e;try{await navigator.clipboard.writeText(e),d("copied the command")}catch{d("the command is in the box below (the clipboard is not available)")}},f("render").onclick=async()=>{try{const{job:e}=await U("api/render",t.recipe),a=async()=>{const o=await(await fetch(`api/render/${e}`)).json();if(o.error)return d(`render: ${o.error}`,!0);if(!o.done)return d(`rendering ${(100*o.progress).toFixed(0)}%`),setTimeout(a,300);d("rendered: downloading");const r=document.createElement("a");r.href=`api/render/${e}/file`,r.download="",r.click()};a()}catch(e){d(e.message,!0)}};for(const e of["flat","sphere","planet"])f(`v-${e}`).onclick=()=>{t.view=e,X(),w()};f("overlay").oninput=async()=>{if(!t.patternLoaded){t.patternLoaded=!0;const e=new Image;e.src="testpattern",await e.decode(),G(e,2)}t.overlay=+f("overlay").value,w()},f("size").onchange=()=>{const e=/^(\d+)x(\d+)$/.exec(f("size").value);e&&(t.size=[+e[1],+e[2]],X(),w())}}async function fe(){const e=await(await fetch("api/state")).json();t.imageName=e.image.name,t.stageNames=Object.fromEntries(e.table.stages.map(r=>[r.code,r.name])),t.recipe=e.recipe;const a=e.image.width/e.image.height;t.size=[Math.min(e.image.width,2048),Math.round(Math.min(e.image.width,2048)/a)],se(),f("size").value=`${t.size[0]}x${t.size[1]}`,ne(e.glsl_header);const o=new Image;o.src="image",await o.decode(),G(o),G(o,2),ue(),W(),L(),_()}window.spherewarp={S:t,draw:w,pixelToLonLat:I,setRecipe:e=>D(e),setStages:async e=>{await H(e),w()},settle:()=>new Promise(e=>{if(!N&&!R)return e();window.addEventListener("sw-drawn",()=>e(),{once:!0})}),frameTime:e=>{const a=new Uint8Array(4),o=performance.now();for(let r=0;r<e;r++)w(),n.readPixels(0,0,1,1,n.RGBA,n.UNSIGNED_BYTE,a);return(performance.now()-o)/e}};fe().then(()=>window.spherewarp.ready=!0).catch(e=>{d(e.message,!0),window.spherewarp.error=e.message});
