@@ -138,12 +138,15 @@ vec2 K(int s, int k) {
   return vec2(P(s, EXPRESSION_CONSTANTS + k), P(s, EXPRESSION_CONSTANTS + k + 1));
 }
 
-vec4 stageMobius(int s, vec4 v) {
-  mat4 L;  // row-major in the row: L[col][row] in GLSL
+// the Lorentz matrix at offset o of stage s's row (row-major there: L[col][row] in GLSL)
+mat4 lorentz(int s, int o) {
+  mat4 L;
   for (int i = 0; i < 4; i++)
-    for (int j = 0; j < 4; j++) L[j][i] = P(s, MOBIUS_L00 + 4 * i + j);
-  return L * v;
+    for (int j = 0; j < 4; j++) L[j][i] = P(s, o + 4 * i + j);
+  return L;
 }
+
+vec4 stageMobius(int s, vec4 v) { return lorentz(s, MOBIUS_L00) * v; }
 
 vec4 stagePower(int s, vec4 v) {
   float m = P(s, POWER_M);
@@ -236,11 +239,7 @@ vec4 stageSchottky(int s, vec4 v) {
     }
     if (move < 0) return v;
     if (it >= depth) return vec4(-1.0, 0.0, 0.0, 0.0);
-    int o = SCHOTTKY_MOVES + move * SCHOTTKY_MOVES_SIZE + SCHOTTKY_MOVES_L00;
-    mat4 L;
-    for (int i = 0; i < 4; i++)
-      for (int k = 0; k < 4; k++) L[k][i] = P(s, o + 4 * i + k);
-    v = L * v;
+    v = lorentz(s, SCHOTTKY_MOVES + move * SCHOTTKY_MOVES_SIZE + SCHOTTKY_MOVES_L00) * v;
     v /= v.x;
     last = move;
   }
@@ -273,11 +272,7 @@ vec4 stageSchottkyMask(int s, vec4 v) {
       if (j == (last ^ 1)) continue;
       int i = j >> 1;
       if ((j & 1) == 0 && here != i) continue;
-      int o = SCHOTTKY_MASK_DATA + 16 * j;
-      mat4 L;
-      for (int a = 0; a < 4; a++)
-        for (int b = 0; b < 4; b++) L[b][a] = P(s, o + 4 * a + b);
-      v2 = L * v;
+      v2 = lorentz(s, SCHOTTKY_MASK_DATA + 16 * j) * v;
       if ((j & 1) == 0 || maskLabel(s, v2) != i) { move = j; break; }
     }
     if (move < 0) return v;
