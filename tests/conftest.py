@@ -19,6 +19,21 @@ PACKAGE_DATA = Path(__file__).resolve().parents[1] / "src" / "spherewarp" / "dat
 SHARED_PANORAMAS = Path("/work/shared/data/panoramas")
 
 
+def pytest_configure(config: pytest.Config) -> None:
+    """Byte-compile the package once, so that each fresh ``spherewarp`` process reads it.
+
+    Where ``PYTHONDONTWRITEBYTECODE`` is set (it is on these machines) an editable
+    install is never byte-compiled, and every one of the suite's thousand or so
+    command-line processes would compile the package's modules from source again
+    (a tenth of a second or more each). Python still reads byte code that exists.
+    """
+    import compileall
+
+    import spherewarp
+
+    compileall.compile_dir(Path(spherewarp.__file__).parent, quiet=2, workers=1)
+
+
 @functools.cache
 def _read_rgb(path: str) -> np.ndarray:
     from PIL import Image
