@@ -51,8 +51,20 @@ def browser():
 
 
 @pytest.fixture(scope="module")
-def served():
-    srv = ViewerServer(None, None)
+def mask_file(tmp_path_factory):
+    """A Schottky mask, red around (0, 0) and blue around (100, 50): a file the server
+    is started with (``--mask``), as a recipe from the page may name no other."""
+    mask = np.zeros((64, 128, 3), np.uint8)
+    mask[24:40, 56:72] = (255, 0, 0)
+    mask[8:20, 96:112] = (0, 0, 255)
+    path = tmp_path_factory.mktemp("masks") / "mask.png"
+    Image.fromarray(mask).save(path)
+    return path
+
+
+@pytest.fixture(scope="module")
+def served(mask_file):
+    srv = ViewerServer(None, None, masks=[mask_file])
     yield srv
     srv.close()
 
@@ -265,14 +277,10 @@ def test_schottky_stage(page, served):
     assert value >= 35
 
 
-def test_masked_schottky_stage(page, served, tmp_path):
+def test_masked_schottky_stage(page, served, mask_file):
     """The exact disks of a mask (``schottky_mask``): the labels go to the page once, as a
     texture."""
-    mask = np.zeros((64, 128, 3), np.uint8)
-    mask[24:40, 56:72] = (255, 0, 0)  # around (0, 0)
-    mask[8:20, 96:112] = (0, 0, 255)  # around (100, 50)
-    path = tmp_path / "mask.png"
-    Image.fromarray(mask).save(path)
+    path = mask_file
     targets = [
         {"colour": "#ff0000", "to": [180, 0, 20]},
         {"colour": "#0000ff", "to": [-80, -40, 15]},

@@ -232,3 +232,88 @@ def test_cli_view_bad_recipe_is_one_line(tmp_path):
         "spherewarp: error: steps[0]: unknown effect 'zooom' (did you mean 'zoom'?)"
     ]
     assert _snapshot(tmp_path) == before
+
+
+def _mask_recipe(mask: str) -> dict:
+    targets = [{"colour": "#ff0000", "to": [180, 0, 20]}]
+    return {"spherewarp": 1, "steps": [{"schottky": {"mask": mask, "targets": targets}}]}
+
+
+def test_masks_only_the_files_it_was_started_with(tmp_path):
+    """A recipe from the page may name only the masks the server was started with (its
+    --recipe's, and --mask): any other file, readable or not, existing or not, is a 403
+    before it is looked at, and nothing derived from it goes back."""
+    d = tmp_path / "work"
+    d.mkdir()
+    mask = np.zeros((32, 64, 3), np.uint8)
+    mask[12:20, 28:36] = (255, 0, 0)
+    for name in ("mask.png", "beside.png", "extra.png"):
+        Image.fromarray(mask).save(d / name)
+    outside = tmp_path / "outside.png"
+    Image.fromarray(mask).save(outside)
+    (d / "link.png").symlink_to(outside)
+    (d / "r.json").write_text(json.dumps(_mask_recipe("mask.png")))
+    srv = ViewerServer(None, d / "r.json", masks=[d / "extra.png"])
+    try:
+        before = _snapshot(tmp_path)
+        for ok in ("mask.png", str(d / "mask.png"), str(d / "extra.png"), "../work/mask.png"):
+            status, data, _ = _req(
+                srv, "POST", "/api/stages", json.dumps(_mask_recipe(ok)).encode()
+            )
+            assert status == 200, (ok, data)
+            key = json.loads(data)["stages"]["labels"][0]["key"]
+            assert _req(srv, "GET", f"/api/labels/{key}")[0] == 200
+        for bad in (
+            "beside.png",  # beside the recipe, but not named by it
+            str(outside),
+            "link.png",  # a link beside it, to a file outside
+            "/etc/passwd",
+            "/etc/no-such-file",  # no "not found": the answer says nothing of other files
+            "~/.ssh/id_rsa",
+        ):
+            for path in ("/api/stages", "/api/render"):
+                body = json.dumps(_mask_recipe(bad)).encode()
+                status, data, _ = _req(srv, "POST", path, body)
+                assert status == 403, (bad, path, data)
+                err = json.loads(data)["error"]
+                assert "is not a file this viewer was started with" in err, err
+                assert "not found" not in err
+        # the droste mask too
+        droste = {"spherewarp": 1, "steps": [{"droste": {"center": [0, 0], "mask": "/etc/passwd"}}]}
+        assert _req(srv, "POST", "/api/stages", json.dumps(droste).encode())[0] == 403
+        assert not srv.jobs and _snapshot(tmp_path) == before
+    finally:
+        srv.close()
+    # a server started without a recipe or --mask reads no mask at all
+    srv = ViewerServer(None, None)
+    try:
+        body = json.dumps(_mask_recipe(str(d / "mask.png"))).encode()
+        assert _req(srv, "POST", "/api/stages", body)[0] == 403
+    finally:
+        srv.close()
+
+
+def test_label_cache_is_a_locked_lru():
+    import threading
+
+    from spherewarp.viewer.server import LabelCache
+
+    cache = LabelCache(4)
+
+    def work(k: int) -> None:
+        for i in range(300):
+            cache.update({f"{k}-{i}": i})
+            cache.get(f"{k}-{i - 1}")
+            assert len(cache) <= 4
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(6)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert len(cache) == 4
+    for k in "abcd":
+        cache.update({k: k})
+    assert cache.get("a") == "a"  # now the most recently used
+    cache.update({"e": "e"})
+    assert cache.get("a") == "a" and cache.get("b") is None  # the least recently used went

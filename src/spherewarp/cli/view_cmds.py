@@ -27,6 +27,15 @@ __all__ = ["view"]
     help="Start from this recipe (the page edits it; 'Save' downloads the edited one).",
 )
 @click.option(
+    "--mask",
+    "masks",
+    multiple=True,
+    type=click.Path(exists=True, dir_okay=False, path_type=Path),
+    metavar="FILE",
+    help="A mask image the page's recipes may name (repeatable); the files the --recipe "
+    "names are allowed too, and no other file.",
+)
+@click.option(
     "--port", type=click.IntRange(0, 65535), default=0, help="Port (default: a free one)."
 )
 @click.option(
@@ -37,7 +46,14 @@ __all__ = ["view"]
     "other machines.",
 )
 @click.option("--no-browser", is_flag=True, help="Print the URL only; do not open a browser.")
-def view(image: Path | None, recipe: Path | None, port: int, host: str, no_browser: bool) -> None:
+def view(
+    image: Path | None,
+    recipe: Path | None,
+    masks: tuple[Path, ...],
+    port: int,
+    host: str,
+    no_browser: bool,
+) -> None:
     """Show IMAGE in the browser, with live conformal effects on the GPU.
 
     Drag a point to move the panorama by the Möbius map that takes it to the
@@ -54,7 +70,7 @@ def view(image: Path | None, recipe: Path | None, port: int, host: str, no_brows
             err=True,
         )
     try:
-        srv = ViewerServer(image, recipe, host=host, port=port)
+        srv = ViewerServer(image, recipe, masks=masks, host=host, port=port)
     except OSError as exc:
         raise click.BadParameter(
             f"cannot listen on {host}:{port}: {exc.strerror or exc}", param_hint="'--port'"

@@ -29,7 +29,10 @@ Routes
 Security: the ``Host`` header must name the address the server listens on
 (DNS rebinding: 403); an API request with an ``Origin`` (or a cross-site
 ``Sec-Fetch-Site``) that is not the server's gets 403; a body over
-:data:`MAX_BODY` gets 413; a path with ``..`` (also URL-encoded) gets 404.
+:data:`MAX_BODY` gets 413; a path with ``..`` (also URL-encoded) gets 404; a
+posted recipe naming a file (a mask) other than those the server was started with
+gets 403 before the file is looked at
+(:func:`spherewarp.recipe.params.allowed_files`).
 Renders go to a temporary folder of the server's own, removed on close:
 nothing next to the inputs changes.
 
@@ -54,13 +57,15 @@ import tempfile
 import threading
 import urllib.parse
 import uuid
+from collections import OrderedDict
+from collections.abc import Sequence
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-__all__ = ["MAX_BODY", "STATIC_DIR", "ViewerServer", "packed_stages"]
+__all__ = ["MAX_BODY", "STATIC_DIR", "LabelCache", "ViewerServer", "packed_stages"]
 
 #: the folder of the built page (``npm run build`` in ``viewer/`` writes it)
 STATIC_DIR = Path(__file__).with_name("static")
@@ -71,7 +76,7 @@ _EMPTY = {"spherewarp": 1, "steps": []}
 
 
 def packed_stages(
-    recipe: Any, t: float = 0.0, labels: dict[str, Any] | None = None
+    recipe: Any, t: float = 0.0, labels: LabelCache | dict[str, Any] | None = None
 ) -> dict[str, Any]:
     """The recipe's map at time ``t`` as the stages the shader runs.
 
@@ -103,10 +108,75 @@ def packed_stages(
             "compiled stages; 'spherewarp render' renders it on the CPU)",
         }
     if labels is not None:
-        if len(labels) > 8:
-            labels.clear()
         labels.update(spec.labels)
     return spec.as_json()
+
+
+class LabelCache:
+    """The labels of masked Schottky stages by key: a small LRU under a lock (the
+    server's threads share it).
+
+    Parameters
+    ----------
+    size : int
+        How many entries it keeps (the least recently used goes first).
+
+    Examples
+    --------
+    >>> c = LabelCache(2)
+    >>> c.update({"a": 1, "b": 2}); c.get("a"); c.update({"c": 3})
+    1
+    >>> c.get("b") is None, c.get("a"), c.get("c"), len(c)
+    (True, 1, 3, 2)
+    """
+
+    def __init__(self, size: int = 8) -> None:
+        self.size = size
+        self._items: OrderedDict[str, Any] = OrderedDict()
+        self._lock = threading.Lock()
+
+    def update(self, items: dict[str, Any]) -> None:
+        """Add or refresh entries, dropping the least recently used beyond ``size``."""
+        with self._lock:
+            for key, value in items.items():
+                self._items[key] = value
+                self._items.move_to_end(key)
+            while len(self._items) > self.size:
+                self._items.popitem(last=False)
+
+    def get(self, key: str) -> Any | None:
+        """The entry for ``key`` (now the most recently used), or None."""
+        with self._lock:
+            found = self._items.get(key)
+            if found is not None:
+                self._items.move_to_end(key)
+            return found
+
+    def __len__(self) -> int:
+        with self._lock:
+            return len(self._items)
+
+
+def recipe_files(recipe: Any) -> list[Path]:
+    """The files a recipe's steps name (their :class:`~spherewarp.recipe.params.File`
+    parameters: masks), resolved.
+
+    Examples
+    --------
+    >>> from spherewarp.recipe import Recipe
+    >>> recipe_files(Recipe.from_dict({"spherewarp": 1, "steps": [{"power": {"n": 2}}]}))
+    []
+    """
+    from ..recipe.effects import EFFECTS
+    from ..recipe.params import File
+
+    out = []
+    for step in recipe.steps:
+        specs = EFFECTS[step.effect].params
+        for name, value in step.parsed.items():
+            if isinstance(specs.get(name), File) and value is not None:
+                out.append(Path(value).resolve())
+    return out
 
 
 def _png_bytes(pixels: np.ndarray) -> bytes:
@@ -140,7 +210,12 @@ class ViewerServer:
     image : path or None
         The panorama to show (None: the bundled sample).
     recipe : path or None
-        A recipe to start from (None: no steps).
+        A recipe to start from (None: no steps). Relative file names in the recipes
+        the page sends are read from its folder.
+    masks : sequence of paths
+        Mask images a recipe from the page may name, besides those the starting
+        recipe names: no other file is read for a recipe that comes over HTTP
+        (``schottky.mask``, ``droste.mask``: 403 otherwise).
     host : str
         The address to listen on (loopback by default).
     port : int
@@ -152,6 +227,7 @@ class ViewerServer:
         image: str | os.PathLike[str] | None,
         recipe: str | os.PathLike[str] | None,
         *,
+        masks: Sequence[str | os.PathLike[str]] = (),
         host: str = "127.0.0.1",
         port: int = 0,
     ) -> None:
@@ -164,8 +240,12 @@ class ViewerServer:
         self.image = read_image(self.image_path)
         self.image_png = _png_bytes(self.image.pixels)
         self.recipe = Recipe.load(recipe) if recipe is not None else Recipe.from_dict(_EMPTY)
+        #: the folder relative file names in posted recipes are read from
+        self.base = self.recipe.base
+        #: the only files a posted recipe may name: the starting recipe's, and ``masks``
+        self.files = frozenset([*(Path(m).resolve() for m in masks), *recipe_files(self.recipe)])
         self.jobs: dict[str, _Job] = {}
-        self.labels: dict[str, Any] = {}  # masked Schottky labels by key (/api/labels/KEY)
+        self.labels = LabelCache()  # masked Schottky labels by key (/api/labels/KEY)
         self._pattern: bytes | None = None
         self.tmp = Path(tempfile.mkdtemp(prefix="spherewarp-view-"))
         self.httpd = ThreadingHTTPServer((host, port), _Handler)
@@ -301,10 +381,14 @@ class _Handler(BaseHTTPRequestHandler):
 
     def _recipe(self) -> Any:
         from ..recipe import Recipe, RecipeError
+        from ..recipe.params import FileRefused, allowed_files
 
         body = self._body()
         try:
-            return Recipe.loads(body)
+            with allowed_files(self.viewer.files):
+                return Recipe.loads(body, base=self.viewer.base)
+        except FileRefused as exc:  # refused before the file is looked at
+            raise _Error(403, f"recipe: {exc}") from None
         except RecipeError as exc:
             raise _Error(400, f"recipe: {exc}") from None
         except Exception as exc:  # a builder's own error on odd values
