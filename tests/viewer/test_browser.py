@@ -291,3 +291,136 @@ def test_masked_schottky_stage(page, served, mask_file):
     value = psnr(shown(page), cpu(served, recipe))
     print(f"schottky_mask: PSNR {value:.2f} dB")
     assert value >= 35
+
+
+def canvas_png(page, which: str) -> np.ndarray:
+    url = page.evaluate(f"document.getElementById('{which}').toDataURL('image/png')")
+    im = Image.open(io.BytesIO(base64.b64decode(url.split(",", 1)[1]))).convert("RGBA")
+    return np.asarray(im).astype(np.float64)
+
+
+def test_side_by_side_and_pin_markers(page, served, tmp_path):
+    recipe = {"spherewarp": 1, "steps": [{"zoom": {"at": [20, 10], "factor": 2}}]}
+    set_recipe(page, recipe)
+    pins = [[-100.0, 30.0], [30.0, -20.0]]  # the second one in the sphere view too
+    page.evaluate("p => { window.spherewarp.S.pins = p; window.spherewarp.draw(); }", pins)
+    want = cpu(served, recipe)
+    try:
+        for side in ("sphere", "original", "planet"):
+            page.select_option("#side", side)
+            assert page.evaluate("new URLSearchParams(location.search).get('side')") == side
+            got = shown(page)
+            assert got.shape == (H, 2 * W, 3)
+            value = psnr(got[:, :W], want)  # the left panel is still the flat view
+            assert value >= 35, (side, value)
+            right = got[:, W:]
+            if side == "original":  # the image unedited
+                value = psnr(right, cpu(served, {"spherewarp": 1, "steps": []}))
+                print(f"side by side, original: PSNR {value:.2f} dB")
+                assert value >= 35
+            else:
+                assert right.std() > 10, side
+            # the pins are marked where they are, in each edited panel
+            marks = canvas_png(page, "marks")
+            assert marks.shape[:2] == (H, 2 * W)
+            views = ["flat", None if side == "original" else side]
+            checked = 0
+            for k, view in enumerate(views):
+                for pin in pins:
+                    at = view and page.evaluate(
+                        "([p, v]) => window.spherewarp.lonLatToPixel(p[0], p[1], v)", [pin, view]
+                    )
+                    if not at or not (2 <= at[0] < W - 2 and 2 <= at[1] < H - 2):
+                        continue  # not in this panel
+                    x, y = int(round(at[0])) + k * W, int(round(at[1]))
+                    ring = marks[max(0, y - 7) : y + 8, max(0, x - 7) : x + 8, 3]
+                    assert ring.max() > 200, (side, view, pin)
+                    checked += 1
+            assert checked >= (2 if side == "original" else 3), side
+            (tmp_path / f"side-{side}.png").write_bytes(page.screenshot())
+        # flat pin markers, computed here, not by the page's own projection
+        for pin in pins:
+            x, y = pixel_from_lonlat_deg(np.array(pin), W, H)
+            ring = marks[int(y) - 7 : int(y) + 8, int(x) - 7 : int(x) + 8, 3]
+            assert ring.max() > 200
+    finally:
+        page.select_option("#side", "")
+    assert shown(page).shape == (H, W, 3)
+    assert page.evaluate("new URLSearchParams(location.search).get('side')") is None
+
+
+def replay(served, page, tmp_path) -> float:
+    """PSNR of the page's flat view against 'spherewarp render' of the recipe it holds."""
+    saved = tmp_path / "page.json"
+    saved.write_text(json.dumps(page.evaluate("window.spherewarp.S.recipe")))
+    out = tmp_path / "replay.png"
+    cmd = [sys.executable, "-m", "spherewarp", "render", str(saved), str(served.image_path)]
+    subprocess.run([*cmd, "-o", str(out), "--size", f"{W}x{H}"], check=True, capture_output=True)
+    replay = np.asarray(Image.open(out).convert("RGB")).astype(np.float64)
+    return psnr(shown(page), replay)
+
+
+def lonlat_of(x: float, y: float) -> list[float]:
+    return [x / W * 360 - 180, 90 - y / H * 180]
+
+
+def wait_steps(page, n: int) -> None:
+    page.wait_for_function(f"window.spherewarp.S.recipe.steps.length === {n}")
+    page.evaluate("window.spherewarp.settle()")
+
+
+def test_droste_frame_by_four_clicks(page, served, tmp_path):
+    set_recipe(page, {"spherewarp": 1, "steps": [{"rotate": {"yaw": 10}}]})
+    box = page.locator("#view").bounding_box()
+    page.click("#m-droste")
+    corners = [(110, 50), (148, 52), (146, 80), (112, 78)]  # round the frame, canvas pixels
+    for x, y in corners:
+        page.mouse.click(box["x"] + x, box["y"] + y)
+    wait_steps(page, 2)
+    step = page.evaluate("window.spherewarp.S.recipe.steps[1]")
+    assert list(step) == ["droste"]
+    assert np.allclose(step["droste"]["frame"], [lonlat_of(x, y) for x, y in corners], atol=1e-4)
+    value = replay(served, page, tmp_path)
+    print(f"droste frame by clicks: replay PSNR {value:.2f} dB")
+    assert value >= 35
+    # corners out of order: the server's line, and the recipe stays as it was
+    page.click("#m-droste")
+    for x, y in [corners[0], corners[2], corners[1], corners[3]]:
+        page.mouse.click(box["x"] + x, box["y"] + y)
+    page.wait_for_function("document.getElementById('status').className === 'bad'")
+    assert "not in order" in page.text_content("#status")
+    assert len(page.evaluate("window.spherewarp.S.recipe.steps")) == 2
+
+
+def test_schottky_disks_by_dragging(page, served, tmp_path):
+    set_recipe(page, {"spherewarp": 1, "steps": []})
+    box = page.locator("#view").bounding_box()
+
+    def disk(c, edge):
+        page.mouse.move(box["x"] + c[0], box["y"] + c[1])
+        page.mouse.down()
+        for k in range(1, 4):
+            page.mouse.move(
+                box["x"] + c[0] + (edge[0] - c[0]) * k / 3,
+                box["y"] + c[1] + (edge[1] - c[1]) * k / 3,
+            )
+        page.mouse.up()
+
+    page.click("#m-schottky")
+    disk((64, 64), (76, 64))  # D_x round (-90, 0), 16.875 degrees
+    disk((192, 64), (192, 74))  # D_X round (90, 0), 14.0625 degrees
+    wait_steps(page, 1)
+    gen = page.evaluate("window.spherewarp.S.recipe.steps[0].schottky.generators")
+    assert len(gen) == 1
+    assert np.allclose(gen[0]["disk"], [-90, 0, 12 / W * 360], atol=1e-4)
+    assert np.allclose(gen[0]["to"], [90, 0, 10 / H * 180], atol=1e-4)
+    # a second pair joins the same step
+    page.click("#m-schottky")
+    disk((128, 20), (128, 30))
+    disk((128, 108), (136, 108))
+    page.wait_for_function("window.spherewarp.S.recipe.steps[0].schottky.generators.length == 2")
+    page.evaluate("window.spherewarp.settle()")
+    assert len(page.evaluate("window.spherewarp.S.recipe.steps")) == 1
+    value = replay(served, page, tmp_path)
+    print(f"schottky disks by dragging: replay PSNR {value:.2f} dB")
+    assert value >= 35
