@@ -424,3 +424,82 @@ def test_schottky_disks_by_dragging(page, served, tmp_path):
     value = replay(served, page, tmp_path)
     print(f"schottky disks by dragging: replay PSNR {value:.2f} dB")
     assert value >= 35
+
+
+FPS = 4
+
+
+def write_video(path, frames) -> None:
+    """A WebM (VP9, BT.601 tagged) of the frames, FPS a second."""
+    import av
+
+    with av.open(str(path), "w") as c:
+        s = c.add_stream("libvpx-vp9", rate=FPS)
+        s.width, s.height = frames[0].shape[1], frames[0].shape[0]
+        s.pix_fmt = "yuv420p"
+        s.options = {"crf": "4", "b": "0", "deadline": "good", "cpu-used": "8"}
+        for a in frames:
+            f = av.VideoFrame.from_ndarray(a, format="rgb24")
+            for p in s.encode(f):
+                c.mux(p)
+        for p in s.encode():
+            c.mux(p)
+
+
+def decoded(path) -> list[np.ndarray]:
+    import av
+
+    with av.open(str(path)) as c:
+        return [f.to_ndarray(format="rgb24") for f in c.decode(video=0)]
+
+
+@pytest.fixture(scope="module")
+def video(tmp_path_factory, served):
+    """8 frames of the sample panorama, turning 45 degrees a frame (256x128, 2 s)."""
+    base = np.asarray(Image.open(served.image_path).convert("RGB").resize((256, 128)))
+    frames = [np.roll(base, 32 * k, axis=1) for k in range(8)]
+    path = tmp_path_factory.mktemp("video") / "turn.webm"
+    write_video(path, frames)
+    return path
+
+
+def test_video_plays_warped(browser, video, tmp_path):
+    """'spherewarp view VIDEO': the page plays the video (range requests) with the effect
+    live; paused at a frame's time it shows that frame warped, as 'spherewarp render'."""
+    srv = ViewerServer(video, None)
+    pg = browser.new_page(viewport={"width": 1000, "height": 600})
+    try:
+        pg.goto(srv.url + f"?view=flat&size={W}x{H}")
+        pg.wait_for_function(
+            "window.spherewarp && (window.spherewarp.ready || window.spherewarp.error)"
+        )
+        assert pg.evaluate("window.spherewarp.error") is None
+        # it plays: the time and the picture change
+        pg.evaluate("window.spherewarp.S.video.play()")
+        t0 = pg.evaluate("window.spherewarp.S.videoTime")
+        n0 = pg.evaluate("window.spherewarp.S.frames")
+        how = "v => [v.paused, v.readyState, v.networkState, v.currentTime, v.error]"
+        try:
+            pg.wait_for_function(f"window.spherewarp.S.videoTime > {t0} + 0.3", timeout=60000)
+        except Exception:
+            raise AssertionError(pg.evaluate(f"({how})(window.spherewarp.S.video)")) from None
+        assert pg.evaluate("window.spherewarp.S.frames") > n0
+        recipe = {"spherewarp": 1, "steps": [{"zoom": {"at": [20, 10], "factor": 2}}]}
+        set_recipe(pg, recipe)
+        frames = decoded(video)
+        seen = []
+        for k in (2, 5):
+            t = pg.evaluate("t => window.spherewarp.seek(t)", (k + 0.5) / FPS)
+            assert abs(t - (k + 0.5) / FPS) < 1e-3
+            got = shown(pg)
+            out = Recipe.from_dict({**recipe, "view": {"size": [W, H]}}).render(frames[k])
+            want = np.asarray(getattr(out, "pixels", out))[..., :3].astype(np.float64)
+            value = psnr(got, want)
+            print(f"video frame {k} warped: PSNR {value:.2f} dB")
+            assert value >= 35
+            seen.append(got)
+        assert np.abs(seen[0] - seen[1]).mean() > 10  # two frames, not one
+        (tmp_path / "video.png").write_bytes(pg.screenshot())
+    finally:
+        pg.close()
+        srv.close()

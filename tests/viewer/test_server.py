@@ -56,7 +56,7 @@ def test_state_and_assets(served):
     status, data, _ = _req(srv, "GET", "/api/state")
     state = json.loads(data)
     assert status == 200
-    assert state["image"] == {"width": 64, "height": 32, "name": "pano.png"}
+    assert state["image"] == {"width": 64, "height": 32, "name": "pano.png", "video": False}
     assert "#define STAGE_MOBIUS 1" in state["glsl_header"]
     assert state["stages"]["codes"] == []  # no steps: no stages
     assert "#define STAGE_EXPRESSION 64" in state["glsl_header"]
@@ -317,3 +317,75 @@ def test_label_cache_is_a_locked_lru():
     assert cache.get("a") == "a"  # now the most recently used
     cache.update({"e": "e"})
     assert cache.get("a") == "a" and cache.get("b") is None  # the least recently used went
+
+
+def test_video_with_range_requests(tmp_path):
+    """'spherewarp view VIDEO': the server serves that file with byte ranges (the page's
+    video element seeks with them), and nothing else beside it."""
+    import av
+
+    path = tmp_path / "clip.webm"
+    with av.open(str(path), "w") as c:
+        s = c.add_stream("libvpx-vp9", rate=2)
+        s.width, s.height, s.pix_fmt = 64, 32, "yuv420p"
+        for k in range(3):
+            a = np.full((32, 64, 3), 40 * k, np.uint8)
+            for p in s.encode(av.VideoFrame.from_ndarray(a, format="rgb24")):
+                c.mux(p)
+        for p in s.encode():
+            c.mux(p)
+    (tmp_path / "secret.txt").write_text("do not serve")
+    whole = path.read_bytes()
+    srv = ViewerServer(path, None)
+    try:
+        state = json.loads(_req(srv, "GET", "/api/state")[1])
+        assert state["image"] == {"width": 64, "height": 32, "name": "clip.webm", "video": True}
+        status, data, r = _req(srv, "GET", "/image")  # the first frame
+        assert status == 200 and data[:4] == b"\x89PNG"
+        status, data, r = _req(srv, "GET", "/video")
+        assert status == 200 and data == whole and r.getheader("Accept-Ranges") == "bytes"
+        assert r.getheader("Content-Type") == "video/webm"
+        n = len(whole)
+        for rng, (a, b) in [
+            ("bytes=0-99", (0, 99)),
+            ("bytes=100-", (100, n - 1)),
+            ("bytes=-50", (n - 50, n - 1)),
+            (f"bytes=10-{n + 500}", (10, n - 1)),
+        ]:
+            status, data, r = _req(srv, "GET", "/video", headers={"Range": rng})
+            assert status == 206 and data == whole[a : b + 1], rng
+            assert r.getheader("Content-Range") == f"bytes {a}-{b}/{n}"
+        for bad in (f"bytes={n}-", "bytes=5-2", "bytes=0-1,5-6", "items=0-1", "bytes=x-"):
+            status, data, _ = _req(srv, "GET", "/video", headers={"Range": bad})
+            assert status == 416, bad
+            assert "do not serve" not in data.decode()
+        for path_ in (
+            "/video/../secret.txt",
+            "/secret.txt",
+            "/clip.webm",
+            "/video%2f..%2fsecret.txt",
+        ):
+            assert _req(srv, "GET", path_)[0] == 404, path_
+        assert _req(srv, "GET", "/video", headers={"Host": "evil.example"})[0] == 403
+    finally:
+        srv.close()
+    # an image server has no /video
+    srv = ViewerServer(None, None)
+    try:
+        assert _req(srv, "GET", "/video")[0] == 404
+    finally:
+        srv.close()
+
+
+def test_cli_view_bad_video_is_one_line(tmp_path):
+    bad = tmp_path / "bad.mp4"
+    bad.write_text("not a video")
+    p = subprocess.run(
+        [sys.executable, "-m", "spherewarp", "view", "--no-browser", str(bad)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert p.returncode != 0 and p.stdout == "" and "Traceback" not in p.stderr
+    assert len(p.stderr.strip().splitlines()) == 1
+    assert "not a video file" in p.stderr

@@ -86,8 +86,9 @@ function compile(hdr) {
   gl.vertexAttribPointer(0, 2, gl.FLOAT, false, 0, 0);
 }
 
-function uploadImage(img, unit = 0) {
-  const tex = gl.createTexture();
+// an image or a video's current frame into a mipmapped texture (a new one unless given)
+function uploadImage(img, unit = 0, tex = null) {
+  tex = tex || gl.createTexture();
   gl.activeTexture(gl.TEXTURE0 + unit);
   gl.bindTexture(gl.TEXTURE_2D, tex);
   gl.pixelStorei(gl.UNPACK_COLORSPACE_CONVERSION_WEBGL, gl.NONE);
@@ -98,6 +99,53 @@ function uploadImage(img, unit = 0) {
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.REPEAT);
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
+  return tex;
+}
+
+// -- a video as the texture: each new frame uploaded and drawn as it plays ------------------------
+let videoTex = null;
+
+function videoFrame() {
+  const v = S.video;
+  if (v.readyState < 2) return;
+  S.videoTime = v.currentTime;
+  uploadImage(v, 0, videoTex);
+  draw();
+  $("vtime").textContent = `${v.currentTime.toFixed(2)} s`;
+  if (!S.seeking && v.duration) $("vseek").value = v.currentTime / v.duration;
+}
+
+async function startVideo() {
+  const v = document.createElement("video");
+  v.muted = true;
+  v.loop = true;
+  v.playsInline = true;
+  v.preload = "auto";
+  const loaded = new Promise((res, rej) => {
+    v.addEventListener("loadeddata", res, { once: true });
+    v.addEventListener("error", () => rej(new Error(`video: ${v.error ? v.error.message || `error ${v.error.code}` : "cannot play"} (the browser may lack its codec)`)), { once: true });
+  });
+  v.src = "video"; // served with range requests: the browser seeks by itself
+  await loaded;
+  S.video = v;
+  videoTex = uploadImage(v, 0);
+  // a frame is uploaded when the time shown has changed (playing, or after a seek)
+  const tick = () => {
+    if (v.currentTime !== S.videoTime && !v.seeking) videoFrame();
+    requestAnimationFrame(tick);
+  };
+  requestAnimationFrame(tick);
+  v.addEventListener("seeked", videoFrame);
+  $("vctl").hidden = false;
+  $("play").onclick = () => (v.paused ? v.play() : v.pause());
+  v.addEventListener("play", () => ($("play").textContent = "Pause"));
+  v.addEventListener("pause", () => ($("play").textContent = "Play"));
+  $("vseek").oninput = () => {
+    S.seeking = true;
+    v.currentTime = +$("vseek").value * (v.duration || 0);
+  };
+  $("vseek").onchange = () => (S.seeking = false);
+  v.play().catch(() => ($("play").textContent = "Play")); // a browser may refuse autoplay
 }
 
 // the stages this shader runs (shader.js); a stage added to the table later is named, not
@@ -794,10 +842,11 @@ async function start() {
   $("side").value = S.side || "";
   compile(state.glsl_header);
   const img = new Image();
-  img.src = "image";
+  img.src = "image"; // a video's first frame
   await img.decode();
   uploadImage(img);
   uploadImage(img, 2); // the overlay's texture until the test pattern is asked for
+  if (state.image.video) await startVideo();
   wireButtons();
   showPins();
   buildSliders();
@@ -816,6 +865,14 @@ window.spherewarp = {
     await uploadStages(st);
     draw();
   },
+  // the video paused at time t (seconds), its frame there shown; resolves to the time
+  seek: (t) =>
+    new Promise((res) => {
+      const v = S.video;
+      v.pause();
+      v.addEventListener("seeked", () => res(v.currentTime), { once: true });
+      v.currentTime = t;
+    }),
   settle: () =>
     new Promise((res) => {
       if (!inflight && !pending) return res();

@@ -15,6 +15,7 @@ __all__ = ["view"]
     epilog=example(
         "spherewarp view room.jpg",
         "spherewarp view room.jpg --recipe zoom.json --port 8360 --no-browser",
+        "spherewarp view walk.mp4",
     )
 )
 @click.argument(
@@ -54,7 +55,8 @@ def view(
     host: str,
     no_browser: bool,
 ) -> None:
-    """Show IMAGE in the browser, with live conformal effects on the GPU.
+    """Show IMAGE (or a VIDEO, played) in the browser, with live conformal effects on
+    the GPU.
 
     Drag a point to move the panorama by the Möbius map that takes it to the
     cursor (two pinned points stay fixed); Ctrl + wheel zooms conformally at
@@ -69,8 +71,12 @@ def view(
             "reach this page",
             err=True,
         )
+    from ..errors import ImageFormatError
+
     try:
         srv = ViewerServer(image, recipe, masks=masks, host=host, port=port)
+    except ImageFormatError:  # an input that is not an image or a video: its own line
+        raise
     except OSError as exc:
         raise click.BadParameter(
             f"cannot listen on {host}:{port}: {exc.strerror or exc}", param_hint="'--port'"

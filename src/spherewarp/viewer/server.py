@@ -6,6 +6,10 @@ Routes
     The bundled page (``static/``); nothing outside that folder.
 ``GET /image``
     The image the server was started with, as an 8-bit PNG (any input format).
+``GET /video``
+    A video the server was started with, as it is, with HTTP range requests
+    (``Range: bytes=A-B``: 206; outside the file: 416) so that the page's video
+    element can seek.
 ``GET /testpattern``
     The paper's test pattern (:func:`spherewarp.testpattern.make_test_pattern`,
     1024x512), for the page's overlay.
@@ -65,12 +69,20 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["MAX_BODY", "STATIC_DIR", "LabelCache", "ViewerServer", "packed_stages"]
+__all__ = ["MAX_BODY", "STATIC_DIR", "LabelCache", "ViewerServer", "byte_range", "packed_stages"]
 
 #: the folder of the built page (``npm run build`` in ``viewer/`` writes it)
 STATIC_DIR = Path(__file__).with_name("static")
 #: the largest request body read, in bytes (a recipe is at most 1 MB)
 MAX_BODY = 1_000_000
+#: the MIME subtype of each video extension
+_VIDEO_TYPES = {
+    ".mp4": "mp4",
+    ".m4v": "mp4",
+    ".mov": "quicktime",
+    ".mkv": "x-matroska",
+    ".webm": "webm",
+}
 _LOOPBACK = {"127.0.0.1", "localhost", "::1"}
 _EMPTY = {"spherewarp": 1, "steps": []}
 
@@ -179,6 +191,54 @@ def recipe_files(recipe: Any) -> list[Path]:
     return out
 
 
+def _first_frame(path: Path) -> np.ndarray:
+    """The first frame of a video, RGB uint8 (one line on a file that is not one)."""
+    import av
+
+    from ..errors import ImageFormatError
+    from ..io.video import probe
+
+    probe(path)  # a clear error for a file that is no video
+    with av.open(str(path)) as c:
+        for frame in c.decode(video=0):
+            return frame.to_ndarray(format="rgb24")
+    raise ImageFormatError(f"cannot read '{path}': the video has no frames")
+
+
+def byte_range(header: str | None, size: int) -> tuple[int, int] | None:
+    """The first and last byte an HTTP ``Range`` header asks of a file of ``size`` bytes
+    (one range: ``bytes=A-B``, ``bytes=A-``, ``bytes=-N``); None for the whole file.
+
+    Raises ValueError for a range it cannot satisfy (416).
+
+    Examples
+    --------
+    >>> byte_range("bytes=0-99", 1000), byte_range("bytes=900-", 1000), byte_range("bytes=-9", 99)
+    ((0, 99), (900, 999), (90, 98))
+    >>> byte_range(None, 1000), byte_range("bytes=0-5000", 1000)
+    (None, (0, 999))
+    >>> byte_range("bytes=1000-", 1000)
+    Traceback (most recent call last):
+    ...
+    ValueError: range bytes=1000- is outside the file (1000 bytes)
+    """
+    if header is None:
+        return None
+    unit, _, spec = header.strip().partition("=")
+    first, dash, last = spec.strip().partition("-")
+    ok = unit.strip() == "bytes" and dash and "," not in spec
+    ok = ok and (first.isdigit() or not first) and (last.isdigit() or not last) and (first or last)
+    if not ok:
+        raise ValueError(f"range {header!r} is not one byte range")
+    if not first:
+        a, b = max(0, size - int(last)), size - 1
+    else:
+        a, b = int(first), min(size - 1, int(last)) if last else size - 1
+    if a >= size or b < a:
+        raise ValueError(f"range {header} is outside the file ({size} bytes)")
+    return a, b
+
+
 def _png_bytes(pixels: np.ndarray) -> bytes:
     from PIL import Image
 
@@ -208,7 +268,9 @@ class ViewerServer:
     Parameters
     ----------
     image : path or None
-        The panorama to show (None: the bundled sample).
+        The panorama to show (None: the bundled sample), or a video (by its
+        extension, :data:`spherewarp.io.video.VIDEO_EXTENSIONS`): the page plays it
+        with the effect applied live.
     recipe : path or None
         A recipe to start from (None: no steps). Relative file names in the recipes
         the page sends are read from its folder.
@@ -232,13 +294,17 @@ class ViewerServer:
         port: int = 0,
     ) -> None:
         from ..io.images import read_image
+        from ..io.video import VIDEO_EXTENSIONS
         from ..recipe import Recipe
 
         if image is None:
             image = Path(__file__).parent.parent / "data" / "courtyard.png"
         self.image_path = Path(image)
-        self.image = read_image(self.image_path)
-        self.image_png = _png_bytes(self.image.pixels)
+        #: whether the input is a video: the page plays it (``/video``) as its texture
+        self.video = self.image_path.suffix.lower() in VIDEO_EXTENSIONS
+        # a video's first frame stands for it in /image and in "render full resolution"
+        self.image = _first_frame(self.image_path) if self.video else read_image(self.image_path)
+        self.image_png = _png_bytes(self.pixels)
         self.recipe = Recipe.load(recipe) if recipe is not None else Recipe.from_dict(_EMPTY)
         #: the folder relative file names in posted recipes are read from
         self.base = self.recipe.base
@@ -272,6 +338,11 @@ class ViewerServer:
         """Block until interrupted."""
         self._thread.join()
 
+    @property
+    def pixels(self) -> np.ndarray:
+        """The image's pixels (a video's first frame)."""
+        return np.asarray(getattr(self.image, "pixels", self.image))
+
     def pattern_png(self) -> bytes:
         """The test pattern as PNG (made on first use)."""
         if self._pattern is None:
@@ -285,10 +356,10 @@ class ViewerServer:
         from ..render import stages
         from .glsl import EXPRESSION, glsl_header
 
-        h, w = self.image.pixels.shape[:2]
+        h, w = self.pixels.shape[:2]
         return {
             "recipe": self.recipe.to_dict(),
-            "image": {"width": w, "height": h, "name": self.image_path.name},
+            "image": {"width": w, "height": h, "name": self.image_path.name, "video": self.video},
             "stages": packed_stages(self.recipe, labels=self.labels),
             "glsl_header": glsl_header(),
             "table": json.loads(stages.as_json(extra=(EXPRESSION,))),
@@ -407,6 +478,38 @@ class _Handler(BaseHTTPRequestHandler):
         if self.command != "HEAD":
             self.wfile.write(body)
 
+    def _send_file(self, path: Path, ctype: str) -> None:
+        """The file, or the one byte range asked for (206), in pieces: a video may be big."""
+        size = path.stat().st_size
+        try:
+            rng = byte_range(self.headers.get("Range"), size)
+        except ValueError as exc:
+            raise _Error(416, str(exc)) from None
+        a, b = rng if rng is not None else (0, size - 1)
+        self.send_response(206 if rng is not None else 200)
+        self.send_header("Content-Type", ctype)
+        self.send_header("Accept-Ranges", "bytes")
+        self.send_header("Content-Length", str(max(0, b - a + 1)))
+        if rng is not None:
+            self.send_header("Content-Range", f"bytes {a}-{b}/{size}")
+        self.send_header("X-Content-Type-Options", "nosniff")
+        self.send_header("Cache-Control", "no-store")
+        self.end_headers()
+        if self.command == "HEAD":
+            return
+        with open(path, "rb") as f:
+            f.seek(a)
+            left = b - a + 1
+            try:
+                while left > 0:
+                    chunk = f.read(min(left, 1 << 20))
+                    if not chunk:
+                        break
+                    self.wfile.write(chunk)
+                    left -= len(chunk)
+            except (BrokenPipeError, ConnectionResetError):  # the browser had enough
+                self.close_connection = True
+
     def _json(self, data: Any, status: int = 200) -> None:
         self._send(status, json.dumps(data).encode(), "application/json")
 
@@ -446,6 +549,10 @@ class _Handler(BaseHTTPRequestHandler):
             return self._json(v.state())
         if path == "/image":
             return self._send(200, v.image_png, "image/png")
+        if path == "/video" and v.video:
+            return self._send_file(
+                v.image_path, "video/" + _VIDEO_TYPES.get(v.image_path.suffix.lower(), "mp4")
+            )
         if path == "/testpattern":
             return self._send(200, v.pattern_png(), "image/png")
         if path.startswith("/api/labels/"):
