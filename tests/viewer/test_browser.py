@@ -499,6 +499,15 @@ def test_video_plays_warped(browser, video, tmp_path):
             assert value >= 35
             seen.append(got)
         assert np.abs(seen[0] - seen[1]).mean() > 10  # two frames, not one
+        # "Render full resolution" (the video's own size here): the frame shown
+        with pg.expect_download(timeout=120000) as dl:
+            pg.click("#render")
+        out = tmp_path / "full.png"
+        dl.value.save_as(out)
+        full = np.asarray(Image.open(out).convert("RGB")).astype(np.float64)
+        value = psnr(seen[1], full)
+        print(f"video frame 5, render full resolution: PSNR {value:.2f} dB")
+        assert value >= 35
         (tmp_path / "video.png").write_bytes(pg.screenshot())
     finally:
         pg.close()

@@ -367,6 +367,15 @@ def test_video_with_range_requests(tmp_path):
         ):
             assert _req(srv, "GET", path_)[0] == 404, path_
         assert _req(srv, "GET", "/video", headers={"Host": "evil.example"})[0] == 403
+        # "render full resolution" of the frame at ?t= (a bad t: 400, no job)
+        body = json.dumps({"spherewarp": 1, "steps": []}).encode()
+        for bad in ("-1", "nan", "abc", "1e9"):
+            status, data, _ = _req(srv, "POST", f"/api/render?t={bad}", body)
+            assert status == 400 and "t: expected a time" in json.loads(data)["error"], bad
+        assert not srv.jobs
+        from spherewarp.viewer.server import video_frame
+
+        assert video_frame(path, 1.2)[0, 0, 0] > video_frame(path, 0.7)[0, 0, 0] > 20
     finally:
         srv.close()
     # an image server has no /video

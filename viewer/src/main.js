@@ -780,7 +780,9 @@ function wireButtons() {
   };
   $("render").onclick = async () => {
     try {
-      const { job } = await post("api/render", S.recipe);
+      // a video: the frame shown now
+      const at = S.video ? `?t=${S.video.currentTime}` : "";
+      const { job } = await post(`api/render${at}`, S.recipe);
       const poll = async () => {
         const st = await (await fetch(`api/render/${job}`)).json();
         if (st.error) return status(`render: ${st.error}`, true);

@@ -27,7 +27,8 @@ Routes
     little-endian int16, row-major.
 ``POST /api/render``
     A recipe in; renders it at full resolution with the Python renderer in a
-    thread; ``{"job": ID}`` out. ``GET /api/render/ID``: ``{"done", "progress",
+    thread (a video: its frame at ``?t=SECONDS``, default the first);
+    ``{"job": ID}`` out. ``GET /api/render/ID``: ``{"done", "progress",
     "error"}``; ``GET /api/render/ID/file``: the PNG, as a download.
 
 Security: the ``Host`` header must name the address the server listens on
@@ -69,7 +70,15 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["MAX_BODY", "STATIC_DIR", "LabelCache", "ViewerServer", "byte_range", "packed_stages"]
+__all__ = [
+    "MAX_BODY",
+    "STATIC_DIR",
+    "LabelCache",
+    "ViewerServer",
+    "byte_range",
+    "packed_stages",
+    "video_frame",
+]
 
 #: the folder of the built page (``npm run build`` in ``viewer/`` writes it)
 STATIC_DIR = Path(__file__).with_name("static")
@@ -191,18 +200,45 @@ def recipe_files(recipe: Any) -> list[Path]:
     return out
 
 
-def _first_frame(path: Path) -> np.ndarray:
-    """The first frame of a video, RGB uint8 (one line on a file that is not one)."""
+def video_frame(path: str | os.PathLike[str], t: float = 0.0) -> np.ndarray:
+    """The frame of a video shown at time ``t`` (seconds): the last one that starts at or
+    before ``t`` (the first for a ``t`` before it), RGB uint8.
+
+    Parameters
+    ----------
+    path : path
+        The video.
+    t : float
+        Seconds from its start.
+
+    Returns
+    -------
+    numpy.ndarray
+        The frame, ``(height, width, 3)`` uint8.
+
+    Raises
+    ------
+    ImageFormatError
+        For a file that is not a video (one line).
+    """
     import av
 
     from ..errors import ImageFormatError
     from ..io.video import probe
 
+    path = Path(path)
     probe(path)  # a clear error for a file that is no video
+    found = None
     with av.open(str(path)) as c:
+        if t > 0:
+            c.seek(int(t * 1_000_000), backward=True)  # a key frame at or before t
         for frame in c.decode(video=0):
-            return frame.to_ndarray(format="rgb24")
-    raise ImageFormatError(f"cannot read '{path}': the video has no frames")
+            if found is not None and frame.time is not None and frame.time > t + 1e-6:
+                break
+            found = frame
+    if found is None:
+        raise ImageFormatError(f"cannot read '{path}': the video has no frames")
+    return found.to_ndarray(format="rgb24")
 
 
 def byte_range(header: str | None, size: int) -> tuple[int, int] | None:
@@ -303,7 +339,7 @@ class ViewerServer:
         #: whether the input is a video: the page plays it (``/video``) as its texture
         self.video = self.image_path.suffix.lower() in VIDEO_EXTENSIONS
         # a video's first frame stands for it in /image and in "render full resolution"
-        self.image = _first_frame(self.image_path) if self.video else read_image(self.image_path)
+        self.image = video_frame(self.image_path) if self.video else read_image(self.image_path)
         self.image_png = _png_bytes(self.pixels)
         self.recipe = Recipe.load(recipe) if recipe is not None else Recipe.from_dict(_EMPTY)
         #: the folder relative file names in posted recipes are read from
@@ -365,7 +401,9 @@ class ViewerServer:
             "table": json.loads(stages.as_json(extra=(EXPRESSION,))),
         }
 
-    def start_render(self, recipe: Any) -> str:
+    def start_render(self, recipe: Any, t: float | None = None) -> str:
+        """Render ``recipe`` at full resolution in a thread (a video: its frame at time
+        ``t``, default the first); returns the job's key."""
         job = _Job()
         key = uuid.uuid4().hex
         self.jobs[key] = job
@@ -377,10 +415,13 @@ class ViewerServer:
             from ..io.images import write_image
 
             try:
+                image = self.image
+                if self.video and t is not None:
+                    image = video_frame(self.image_path, t)
                 try:
-                    out = recipe.render(self.image, progress=progress)
+                    out = recipe.render(image, progress=progress)
                 except TypeError:  # a renderer without progress reporting
-                    out = recipe.render(self.image)
+                    out = recipe.render(image)
                 pixels = getattr(out, "pixels", out)
                 path = self.tmp / f"{self.image_path.stem}-{key[:8]}.png"
                 write_image(path, pixels, gpano=None)
@@ -434,6 +475,19 @@ class _Handler(BaseHTTPRequestHandler):
         if any(part in ("..", ".") for part in path.split("/")):
             raise _Error(404, "not found")
         return path
+
+    def _time(self) -> float | None:
+        """The ``t`` of the query (a video's time in seconds), if any."""
+        query = urllib.parse.parse_qs(urllib.parse.urlsplit(self.path).query)
+        if "t" not in query:
+            return None
+        try:
+            t = float(query["t"][0])
+        except ValueError:
+            t = float("nan")
+        if not (0 <= t < 1e7):
+            raise _Error(400, f"t: expected a time in seconds >= 0, got {query['t'][0]!r:.40}")
+        return t
 
     def _body(self) -> bytes:
         length = self.headers.get("Content-Length")
@@ -537,7 +591,7 @@ class _Handler(BaseHTTPRequestHandler):
                 except Exception as exc:
                     raise _Error(400, f"recipe: {exc}") from None
             elif path == "/api/render":
-                self._json({"job": self.viewer.start_render(self._recipe())})
+                self._json({"job": self.viewer.start_render(self._recipe(), self._time())})
             else:
                 raise _Error(404, "not found")
         except _Error as err:
