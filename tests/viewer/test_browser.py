@@ -343,6 +343,15 @@ def test_side_by_side_and_pin_markers(page, served, tmp_path):
             x, y = pixel_from_lonlat_deg(np.array(pin), W, H)
             ring = marks[int(y) - 7 : int(y) + 8, int(x) - 7 : int(x) + 8, 3]
             assert ring.max() > 200
+        # each view's marks are placed by the inverse of its pixel -> (lon, lat)
+        for view in ("flat", "sphere", "planet"):
+            back = page.evaluate(
+                """v => [[30, 40], [200, 100], [128, 64]].map(
+                    ([x, y]) => window.spherewarp.lonLatToPixel(
+                        ...window.spherewarp.pixelToLonLat(x, y, v), v))""",
+                view,
+            )
+            assert np.allclose(back, [[30, 40], [200, 100], [128, 64]], atol=1e-6), view
     finally:
         page.select_option("#side", "")
     assert shown(page).shape == (H, W, 3)
@@ -383,7 +392,29 @@ def test_droste_frame_by_four_clicks(page, served, tmp_path):
     value = replay(served, page, tmp_path)
     print(f"droste frame by clicks: replay PSNR {value:.2f} dB")
     assert value >= 35
+    # in the sphere view: the corners are the directions of the pixels clicked (the
+    # shader's camera, written again here)
+    page.click("#v-sphere")
+    try:
+        set_recipe(page, {"spherewarp": 1, "steps": []})
+        page.evaluate("window.spherewarp.S.look = [20, 10, 90]; window.spherewarp.draw()")
+        page.click("#m-droste")
+        for x, y in corners:
+            page.mouse.click(box["x"] + x, box["y"] + y)
+        wait_steps(page, 1)
+        got = page.evaluate("window.spherewarp.S.recipe.steps[0].droste.frame")
+    finally:
+        page.click("#v-flat")
+    yaw, pitch, k = np.radians(20), np.radians(10), np.tan(np.radians(45))
+    f = np.array([np.cos(pitch) * np.cos(yaw), np.cos(pitch) * np.sin(yaw), np.sin(pitch)])
+    r = np.array([-np.sin(yaw), np.cos(yaw), 0])
+    u = np.array([-np.sin(pitch) * np.cos(yaw), -np.sin(pitch) * np.sin(yaw), np.cos(pitch)])
+    for (x, y), corner in zip(corners, got, strict=True):
+        d = f + k * (2 * x - W) / W * r - k * (2 * y - H) / W * u
+        want = np.degrees([np.arctan2(d[1], d[0]), np.arctan2(d[2], np.hypot(d[0], d[1]))])
+        assert np.allclose(corner, want, atol=1e-4), (corner, want)
     # corners out of order: the server's line, and the recipe stays as it was
+    set_recipe(page, {"spherewarp": 1, "steps": [{"rotate": {"yaw": 10}}, step]})
     page.click("#m-droste")
     for x, y in [corners[0], corners[2], corners[1], corners[3]]:
         page.mouse.click(box["x"] + x, box["y"] + y)
