@@ -166,22 +166,35 @@ def test_a_hostile_expression_is_refused(page, expr):
     assert np.array_equal(shown(page), before)
 
 
-def test_drag_moves_the_point_under_the_cursor(page, served, tmp_path):
+@pytest.mark.parametrize("where", ["flat", "right panel"])
+def test_drag_moves_the_point_under_the_cursor(page, served, tmp_path, where):
+    """Also in the right panel of two (the sphere view, and the flat one beside it)."""
     base = {"spherewarp": 1, "steps": [{"zoom": {"at": [30, 10], "factor": 1.5}}]}
     set_recipe(page, base)
     pins = [[-120.0, 40.0], [100.0, -30.0]]
     page.evaluate("p => { window.spherewarp.S.pins = p; }", pins)
+    x0 = 0
+    if where == "right panel":
+        page.click("#v-sphere")
+        page.select_option("#side", "flat")
+        x0 = W
     box = page.locator("#view").bounding_box()
-    assert round(box["width"]) == W  # one CSS pixel a canvas pixel
-    a, b = (100.0, 60.0), (140.0, 45.0)  # canvas pixels
-    page.mouse.move(box["x"] + a[0], box["y"] + a[1])
+    assert round(box["width"]) == W + x0  # one CSS pixel a canvas pixel
+    a, b = (100.0, 60.0), (140.0, 45.0)  # canvas pixels (of the panel)
+    page.mouse.move(box["x"] + x0 + a[0], box["y"] + a[1])
     page.mouse.down()
     for k in range(1, 6):
         page.mouse.move(
-            box["x"] + a[0] + (b[0] - a[0]) * k / 5, box["y"] + a[1] + (b[1] - a[1]) * k / 5
+            box["x"] + x0 + a[0] + (b[0] - a[0]) * k / 5,
+            box["y"] + a[1] + (b[1] - a[1]) * k / 5,
         )
     page.mouse.up()
     page.evaluate("window.spherewarp.settle()")
+    if where == "right panel":
+        shown_right = shown(page)[:, W:]
+        page.click("#v-flat")
+        page.select_option("#side", "")
+        assert np.array_equal(shown(page), shown_right)  # the same picture, alone
     with page.expect_download() as dl:
         page.click("#save")
     saved = tmp_path / "saved.json"
@@ -194,7 +207,7 @@ def test_drag_moves_the_point_under_the_cursor(page, served, tmp_path):
     src = old.map_at(0).apply_lonlat(np.array(lonlat_a))
     moved = pixel_from_lonlat_deg(inv.apply_lonlat(src), W, H)
     err = np.hypot((moved[0] - b[0] + W / 2) % W - W / 2, moved[1] - b[1])
-    print(f"drag error {err:.3f} px")
+    print(f"drag error ({where}) {err:.3f} px")
     assert err <= 2.0
     for pin in pins:
         at = pixel_from_lonlat_deg(
@@ -202,6 +215,8 @@ def test_drag_moves_the_point_under_the_cursor(page, served, tmp_path):
         )
         want = pixel_from_lonlat_deg(np.array(pin), W, H)
         assert np.hypot((at[0] - want[0] + W / 2) % W - W / 2, at[1] - want[1]) <= 2.0
+    if where == "right panel":
+        return  # the replay: the flat case
     # the saved recipe replayed by 'spherewarp render' gives the image the page showed
     out = tmp_path / "replay.png"
     cmd = [sys.executable, "-m", "spherewarp", "render", str(saved), str(served.image_path)]
