@@ -530,7 +530,9 @@ def test_video_plays_warped(browser, video, tmp_path):
         except Exception:
             raise AssertionError(pg.evaluate(f"({how})(window.spherewarp.S.video)")) from None
         assert pg.evaluate("window.spherewarp.S.frames") > n0
-        recipe = {"spherewarp": 1, "steps": [{"zoom": {"at": [20, 10], "factor": 2}}]}
+        # an animated recipe: its time is the video's
+        factor = {"keyframes": [[0, 1], [2, 3]]}
+        recipe = {"spherewarp": 1, "steps": [{"zoom": {"at": [20, 10], "factor": factor}}]}
         set_recipe(pg, recipe)
         frames = decoded(video)
         seen = []
@@ -538,7 +540,8 @@ def test_video_plays_warped(browser, video, tmp_path):
             t = pg.evaluate("t => window.spherewarp.seek(t)", (k + 0.5) / FPS)
             assert abs(t - (k + 0.5) / FPS) < 1e-3
             got = shown(pg)
-            out = Recipe.from_dict({**recipe, "view": {"size": [W, H]}}).render(frames[k])
+            r = Recipe.from_dict({**recipe, "view": {"size": [W, H]}})
+            out = r.render(frames[k], t=t)
             want = np.asarray(getattr(out, "pixels", out))[..., :3].astype(np.float64)
             value = psnr(got, want)
             print(f"video frame {k} warped: PSNR {value:.2f} dB")

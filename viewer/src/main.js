@@ -111,6 +111,7 @@ function videoFrame() {
   S.videoTime = v.currentTime;
   uploadImage(v, 0, videoTex);
   draw();
+  if (animated()) restage(); // the recipe at the video's time (drawn again when it comes)
   $("vtime").textContent = `${v.currentTime.toFixed(2)} s`;
   if (!S.seeking && v.duration) $("vseek").value = v.currentTime / v.duration;
 }
@@ -439,10 +440,19 @@ async function post(path, recipe) {
 
 // the latest recipe wins; one request in flight at a time
 function refresh() {
-  pending = JSON.parse(JSON.stringify(S.recipe));
-  if (!inflight) pump();
+  restage();
   writeURL();
 }
+
+// the stages again: the recipe changed, or (an animated recipe over a video) the time did
+function restage() {
+  pending = JSON.parse(JSON.stringify(S.recipe));
+  if (!inflight) pump();
+}
+
+// the recipe's time: the video's (as 'spherewarp video' renders it), else 0
+const recipeTime = () => (S.video ? S.video.currentTime : 0);
+const animated = () => JSON.stringify(S.recipe).includes('"keyframes"');
 
 async function pump() {
   inflight = true;
@@ -450,7 +460,8 @@ async function pump() {
     const recipe = pending;
     pending = null;
     try {
-      const { stages } = await post("api/stages", recipe);
+      const at = S.video ? `?t=${recipeTime()}` : "";
+      const { stages } = await post(`api/stages${at}`, recipe);
       await uploadStages(stages);
       if (stages.codes) status(`${recipe.steps.length} step(s), ${stages.codes.length} stage(s)`);
     } catch (e) {
@@ -781,7 +792,7 @@ function wireButtons() {
   $("render").onclick = async () => {
     try {
       // a video: the frame shown now
-      const at = S.video ? `?t=${S.video.currentTime}` : "";
+      const at = S.video ? `?t=${recipeTime()}` : "";
       const { job } = await post(`api/render${at}`, S.recipe);
       const poll = async () => {
         const st = await (await fetch(`api/render/${job}`)).json();
@@ -872,7 +883,9 @@ window.spherewarp = {
     new Promise((res) => {
       const v = S.video;
       v.pause();
-      v.addEventListener("seeked", () => res(v.currentTime), { once: true });
+      v.addEventListener("seeked", () => window.spherewarp.settle().then(() => res(v.currentTime)), {
+        once: true,
+      });
       v.currentTime = t;
     }),
   settle: () =>

@@ -18,7 +18,8 @@ Routes
     "table"}``: the recipe the server was started with, its map packed as
     compiled stages (:func:`packed_stages`), and the stage table for the shader.
 ``POST /api/stages``
-    A recipe in, its packed stages out (400 with the recipe's error line):
+    A recipe in, its packed stages at ``?t=SECONDS`` (default 0) out (400 with
+    the recipe's error line):
     :func:`packed_stages`, expression maps as GLSL functions made from their
     syntax tree (:mod:`spherewarp.viewer.glsl`; no text of the recipe reaches
     the shader).
@@ -27,7 +28,8 @@ Routes
     little-endian int16, row-major.
 ``POST /api/render``
     A recipe in; renders it at full resolution with the Python renderer in a
-    thread (a video: its frame at ``?t=SECONDS``, default the first);
+    thread (a video: its frame at ``?t=SECONDS``, default the first, and the
+    recipe at that time);
     ``{"job": ID}`` out. ``GET /api/render/ID``: ``{"done", "progress",
     "error"}``; ``GET /api/render/ID/file``: the PNG, as a download.
 
@@ -418,10 +420,11 @@ class ViewerServer:
                 image = self.image
                 if self.video and t is not None:
                     image = video_frame(self.image_path, t)
+                when = 0.0 if t is None else t  # a video's time is the recipe's
                 try:
-                    out = recipe.render(image, progress=progress)
+                    out = recipe.render(image, t=when, progress=progress)
                 except TypeError:  # a renderer without progress reporting
-                    out = recipe.render(image)
+                    out = recipe.render(image, t=when)
                 pixels = getattr(out, "pixels", out)
                 path = self.tmp / f"{self.image_path.stem}-{key[:8]}.png"
                 write_image(path, pixels, gpano=None)
@@ -587,7 +590,8 @@ class _Handler(BaseHTTPRequestHandler):
             if path == "/api/stages":
                 recipe = self._recipe()
                 try:
-                    self._json({"stages": packed_stages(recipe, labels=self.viewer.labels)})
+                    t = self._time() or 0.0  # a video's time: an animated recipe's too
+                    self._json({"stages": packed_stages(recipe, t, labels=self.viewer.labels)})
                 except Exception as exc:
                     raise _Error(400, f"recipe: {exc}") from None
             elif path == "/api/render":
