@@ -57,6 +57,7 @@ def test_state_and_assets(served):
     state = json.loads(data)
     assert status == 200
     assert state["image"] == {"width": 64, "height": 32, "name": "pano.png", "video": False}
+    assert state["rate"] is None
     assert "#define STAGE_MOBIUS 1" in state["glsl_header"]
     assert state["stages"]["codes"] == []  # no steps: no stages
     assert "#define STAGE_EXPRESSION 64" in state["glsl_header"]
@@ -340,6 +341,7 @@ def test_video_with_range_requests(tmp_path):
     try:
         state = json.loads(_req(srv, "GET", "/api/state")[1])
         assert state["image"] == {"width": 64, "height": 32, "name": "clip.webm", "video": True}
+        assert state["rate"] == 2
         status, data, r = _req(srv, "GET", "/image")  # the first frame
         assert status == 200 and data[:4] == b"\x89PNG"
         status, data, r = _req(srv, "GET", "/video")

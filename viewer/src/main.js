@@ -450,8 +450,13 @@ function restage() {
   if (!inflight) pump();
 }
 
-// the recipe's time: the video's (as 'spherewarp video' renders it), else 0
-const recipeTime = () => (S.video ? S.video.currentTime : 0);
+// the recipe's time: that of the video's frame shown (as 'spherewarp video' renders each
+// frame: the recipe at the frame's time), else 0
+function recipeTime() {
+  if (!S.video) return 0;
+  const t = S.video.currentTime;
+  return S.rate ? Math.floor(t * S.rate + 1e-4) / S.rate : t;
+}
 const animated = () => JSON.stringify(S.recipe).includes('"keyframes"');
 
 async function pump() {
@@ -760,7 +765,10 @@ function download(name, blob) {
 function cliCommand() {
   const json = JSON.stringify(S.recipe, null, 1);
   const [w, h] = S.size;
-  return `cat > recipe.json <<'EOF'\n${json}\nEOF\nspherewarp render recipe.json ${S.imageName} -o out.png --size ${w}x${h}`;
+  const render = S.video // every frame, the recipe at each frame's time
+    ? `spherewarp video ${S.imageName} -o out.mp4 --size ${w}x${h} recipe recipe.json`
+    : `spherewarp render recipe.json ${S.imageName} -o out.png --size ${w}x${h}`;
+  return `cat > recipe.json <<'EOF'\n${json}\nEOF\n${render}`;
 }
 
 function wireButtons() {
@@ -846,6 +854,7 @@ function wireButtons() {
 async function start() {
   const state = await (await fetch("api/state")).json();
   S.imageName = state.image.name;
+  S.rate = state.rate;
   S.stageNames = Object.fromEntries(state.table.stages.map((t) => [t.code, t.name]));
   S.recipe = state.recipe;
   const ar = state.image.width / state.image.height;

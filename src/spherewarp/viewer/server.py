@@ -14,9 +14,10 @@ Routes
     The paper's test pattern (:func:`spherewarp.testpattern.make_test_pattern`,
     1024x512), for the page's overlay.
 ``GET /api/state``
-    ``{"recipe", "image": {"width", "height", "name"}, "stages", "glsl_header",
-    "table"}``: the recipe the server was started with, its map packed as
-    compiled stages (:func:`packed_stages`), and the stage table for the shader.
+    ``{"recipe", "image": {"width", "height", "name", "video"}, "rate", "stages",
+    "glsl_header", "table"}``: the recipe the server was started with, its map
+    packed as compiled stages (:func:`packed_stages`), the stage table for the
+    shader, and a video's frame rate (None for an image).
 ``POST /api/stages``
     A recipe in, its packed stages at ``?t=SECONDS`` (default 0) out (400 with
     the recipe's error line):
@@ -342,6 +343,13 @@ class ViewerServer:
         self.video = self.image_path.suffix.lower() in VIDEO_EXTENSIONS
         # a video's first frame stands for it in /image and in "render full resolution"
         self.image = video_frame(self.image_path) if self.video else read_image(self.image_path)
+        #: a video's frame rate (frames a second; the page times the recipe by its frames)
+        self.rate: float | None = None
+        if self.video:
+            from ..io.video import probe
+
+            rate = probe(self.image_path).rate
+            self.rate = float(rate) if rate else None
         self.image_png = _png_bytes(self.pixels)
         self.recipe = Recipe.load(recipe) if recipe is not None else Recipe.from_dict(_EMPTY)
         #: the folder relative file names in posted recipes are read from
@@ -398,6 +406,7 @@ class ViewerServer:
         return {
             "recipe": self.recipe.to_dict(),
             "image": {"width": w, "height": h, "name": self.image_path.name, "video": self.video},
+            "rate": self.rate,
             "stages": packed_stages(self.recipe, labels=self.labels),
             "glsl_header": glsl_header(),
             "table": json.loads(stages.as_json(extra=(EXPRESSION,))),
