@@ -51,8 +51,20 @@ def browser():
 
 
 @pytest.fixture(scope="module")
-def served():
-    srv = ViewerServer(None, None)
+def mask_file(tmp_path_factory):
+    """A Schottky mask, red around (0, 0) and blue around (100, 50): a file the server
+    is started with (``--mask``), as a recipe from the page may name no other."""
+    mask = np.zeros((64, 128, 3), np.uint8)
+    mask[24:40, 56:72] = (255, 0, 0)
+    mask[8:20, 96:112] = (0, 0, 255)
+    path = tmp_path_factory.mktemp("masks") / "mask.png"
+    Image.fromarray(mask).save(path)
+    return path
+
+
+@pytest.fixture(scope="module")
+def served(mask_file):
+    srv = ViewerServer(None, None, masks=[mask_file])
     yield srv
     srv.close()
 
@@ -154,22 +166,35 @@ def test_a_hostile_expression_is_refused(page, expr):
     assert np.array_equal(shown(page), before)
 
 
-def test_drag_moves_the_point_under_the_cursor(page, served, tmp_path):
+@pytest.mark.parametrize("where", ["flat", "right panel"])
+def test_drag_moves_the_point_under_the_cursor(page, served, tmp_path, where):
+    """Also in the right panel of two (the sphere view, and the flat one beside it)."""
     base = {"spherewarp": 1, "steps": [{"zoom": {"at": [30, 10], "factor": 1.5}}]}
     set_recipe(page, base)
     pins = [[-120.0, 40.0], [100.0, -30.0]]
     page.evaluate("p => { window.spherewarp.S.pins = p; }", pins)
+    x0 = 0
+    if where == "right panel":
+        page.click("#v-sphere")
+        page.select_option("#side", "flat")
+        x0 = W
     box = page.locator("#view").bounding_box()
-    assert round(box["width"]) == W  # one CSS pixel a canvas pixel
-    a, b = (100.0, 60.0), (140.0, 45.0)  # canvas pixels
-    page.mouse.move(box["x"] + a[0], box["y"] + a[1])
+    assert round(box["width"]) == W + x0  # one CSS pixel a canvas pixel
+    a, b = (100.0, 60.0), (140.0, 45.0)  # canvas pixels (of the panel)
+    page.mouse.move(box["x"] + x0 + a[0], box["y"] + a[1])
     page.mouse.down()
     for k in range(1, 6):
         page.mouse.move(
-            box["x"] + a[0] + (b[0] - a[0]) * k / 5, box["y"] + a[1] + (b[1] - a[1]) * k / 5
+            box["x"] + x0 + a[0] + (b[0] - a[0]) * k / 5,
+            box["y"] + a[1] + (b[1] - a[1]) * k / 5,
         )
     page.mouse.up()
     page.evaluate("window.spherewarp.settle()")
+    if where == "right panel":
+        shown_right = shown(page)[:, W:]
+        page.click("#v-flat")
+        page.select_option("#side", "")
+        assert np.array_equal(shown(page), shown_right)  # the same picture, alone
     with page.expect_download() as dl:
         page.click("#save")
     saved = tmp_path / "saved.json"
@@ -182,7 +207,7 @@ def test_drag_moves_the_point_under_the_cursor(page, served, tmp_path):
     src = old.map_at(0).apply_lonlat(np.array(lonlat_a))
     moved = pixel_from_lonlat_deg(inv.apply_lonlat(src), W, H)
     err = np.hypot((moved[0] - b[0] + W / 2) % W - W / 2, moved[1] - b[1])
-    print(f"drag error {err:.3f} px")
+    print(f"drag error ({where}) {err:.3f} px")
     assert err <= 2.0
     for pin in pins:
         at = pixel_from_lonlat_deg(
@@ -190,6 +215,8 @@ def test_drag_moves_the_point_under_the_cursor(page, served, tmp_path):
         )
         want = pixel_from_lonlat_deg(np.array(pin), W, H)
         assert np.hypot((at[0] - want[0] + W / 2) % W - W / 2, at[1] - want[1]) <= 2.0
+    if where == "right panel":
+        return  # the replay: the flat case
     # the saved recipe replayed by 'spherewarp render' gives the image the page showed
     out = tmp_path / "replay.png"
     cmd = [sys.executable, "-m", "spherewarp", "render", str(saved), str(served.image_path)]
@@ -265,14 +292,10 @@ def test_schottky_stage(page, served):
     assert value >= 35
 
 
-def test_masked_schottky_stage(page, served, tmp_path):
+def test_masked_schottky_stage(page, served, mask_file):
     """The exact disks of a mask (``schottky_mask``): the labels go to the page once, as a
     texture."""
-    mask = np.zeros((64, 128, 3), np.uint8)
-    mask[24:40, 56:72] = (255, 0, 0)  # around (0, 0)
-    mask[8:20, 96:112] = (0, 0, 255)  # around (100, 50)
-    path = tmp_path / "mask.png"
-    Image.fromarray(mask).save(path)
+    path = mask_file
     targets = [
         {"colour": "#ff0000", "to": [180, 0, 20]},
         {"colour": "#0000ff", "to": [-80, -40, 15]},
@@ -283,3 +306,277 @@ def test_masked_schottky_stage(page, served, tmp_path):
     value = psnr(shown(page), cpu(served, recipe))
     print(f"schottky_mask: PSNR {value:.2f} dB")
     assert value >= 35
+
+
+def canvas_png(page, which: str) -> np.ndarray:
+    url = page.evaluate(f"document.getElementById('{which}').toDataURL('image/png')")
+    im = Image.open(io.BytesIO(base64.b64decode(url.split(",", 1)[1]))).convert("RGBA")
+    return np.asarray(im).astype(np.float64)
+
+
+def test_side_by_side_and_pin_markers(page, served, tmp_path):
+    recipe = {"spherewarp": 1, "steps": [{"zoom": {"at": [20, 10], "factor": 2}}]}
+    set_recipe(page, recipe)
+    pins = [[-100.0, 30.0], [30.0, -20.0]]  # the second one in the sphere view too
+    page.evaluate("p => { window.spherewarp.S.pins = p; window.spherewarp.draw(); }", pins)
+    want = cpu(served, recipe)
+    try:
+        for side in ("sphere", "original", "planet"):
+            page.select_option("#side", side)
+            assert page.evaluate("new URLSearchParams(location.search).get('side')") == side
+            got = shown(page)
+            assert got.shape == (H, 2 * W, 3)
+            value = psnr(got[:, :W], want)  # the left panel is still the flat view
+            assert value >= 35, (side, value)
+            right = got[:, W:]
+            if side == "original":  # the image unedited
+                value = psnr(right, cpu(served, {"spherewarp": 1, "steps": []}))
+                print(f"side by side, original: PSNR {value:.2f} dB")
+                assert value >= 35
+            else:
+                assert right.std() > 10, side
+            # the pins are marked where they are, in each edited panel
+            marks = canvas_png(page, "marks")
+            assert marks.shape[:2] == (H, 2 * W)
+            views = ["flat", None if side == "original" else side]
+            checked = 0
+            for k, view in enumerate(views):
+                for pin in pins:
+                    at = view and page.evaluate(
+                        "([p, v]) => window.spherewarp.lonLatToPixel(p[0], p[1], v)", [pin, view]
+                    )
+                    if not at or not (2 <= at[0] < W - 2 and 2 <= at[1] < H - 2):
+                        continue  # not in this panel
+                    x, y = int(round(at[0])) + k * W, int(round(at[1]))
+                    ring = marks[max(0, y - 7) : y + 8, max(0, x - 7) : x + 8, 3]
+                    assert ring.max() > 200, (side, view, pin)
+                    checked += 1
+            assert checked >= (2 if side == "original" else 3), side
+            (tmp_path / f"side-{side}.png").write_bytes(page.screenshot())
+        # flat pin markers, computed here, not by the page's own projection
+        for pin in pins:
+            x, y = pixel_from_lonlat_deg(np.array(pin), W, H)
+            ring = marks[int(y) - 7 : int(y) + 8, int(x) - 7 : int(x) + 8, 3]
+            assert ring.max() > 200
+        # each view's marks are placed by the inverse of its pixel -> (lon, lat)
+        for view in ("flat", "sphere", "planet"):
+            back = page.evaluate(
+                """v => [[30, 40], [200, 100], [128, 64]].map(
+                    ([x, y]) => window.spherewarp.lonLatToPixel(
+                        ...window.spherewarp.pixelToLonLat(x, y, v), v))""",
+                view,
+            )
+            assert np.allclose(back, [[30, 40], [200, 100], [128, 64]], atol=1e-6), view
+    finally:
+        page.select_option("#side", "")
+    assert shown(page).shape == (H, W, 3)
+    assert page.evaluate("new URLSearchParams(location.search).get('side')") is None
+
+
+def replay(served, page, tmp_path) -> float:
+    """PSNR of the page's flat view against 'spherewarp render' of the recipe it holds."""
+    saved = tmp_path / "page.json"
+    saved.write_text(json.dumps(page.evaluate("window.spherewarp.S.recipe")))
+    out = tmp_path / "replay.png"
+    cmd = [sys.executable, "-m", "spherewarp", "render", str(saved), str(served.image_path)]
+    subprocess.run([*cmd, "-o", str(out), "--size", f"{W}x{H}"], check=True, capture_output=True)
+    replay = np.asarray(Image.open(out).convert("RGB")).astype(np.float64)
+    return psnr(shown(page), replay)
+
+
+def lonlat_of(x: float, y: float) -> list[float]:
+    return [x / W * 360 - 180, 90 - y / H * 180]
+
+
+def wait_steps(page, n: int) -> None:
+    page.wait_for_function(f"window.spherewarp.S.recipe.steps.length === {n}")
+    page.evaluate("window.spherewarp.settle()")
+
+
+def test_droste_frame_by_four_clicks(page, served, tmp_path):
+    set_recipe(page, {"spherewarp": 1, "steps": [{"rotate": {"yaw": 10}}]})
+    box = page.locator("#view").bounding_box()
+    page.click("#m-droste")
+    corners = [(110, 50), (148, 52), (146, 80), (112, 78)]  # round the frame, canvas pixels
+    for x, y in corners:
+        page.mouse.click(box["x"] + x, box["y"] + y)
+    wait_steps(page, 2)
+    step = page.evaluate("window.spherewarp.S.recipe.steps[1]")
+    assert list(step) == ["droste"]
+    assert np.allclose(step["droste"]["frame"], [lonlat_of(x, y) for x, y in corners], atol=1e-4)
+    value = replay(served, page, tmp_path)
+    print(f"droste frame by clicks: replay PSNR {value:.2f} dB")
+    assert value >= 35
+    # in the sphere view: the corners are the directions of the pixels clicked (the
+    # shader's camera, written again here)
+    page.click("#v-sphere")
+    try:
+        set_recipe(page, {"spherewarp": 1, "steps": []})
+        page.evaluate("window.spherewarp.S.look = [20, 10, 90]; window.spherewarp.draw()")
+        page.click("#m-droste")
+        for x, y in corners:
+            page.mouse.click(box["x"] + x, box["y"] + y)
+        wait_steps(page, 1)
+        got = page.evaluate("window.spherewarp.S.recipe.steps[0].droste.frame")
+    finally:
+        page.click("#v-flat")
+    yaw, pitch, k = np.radians(20), np.radians(10), np.tan(np.radians(45))
+    f = np.array([np.cos(pitch) * np.cos(yaw), np.cos(pitch) * np.sin(yaw), np.sin(pitch)])
+    r = np.array([-np.sin(yaw), np.cos(yaw), 0])
+    u = np.array([-np.sin(pitch) * np.cos(yaw), -np.sin(pitch) * np.sin(yaw), np.cos(pitch)])
+    for (x, y), corner in zip(corners, got, strict=True):
+        d = f + k * (2 * x - W) / W * r - k * (2 * y - H) / W * u
+        want = np.degrees([np.arctan2(d[1], d[0]), np.arctan2(d[2], np.hypot(d[0], d[1]))])
+        assert np.allclose(corner, want, atol=1e-4), (corner, want)
+    # corners out of order: the server's line, and the recipe stays as it was
+    set_recipe(page, {"spherewarp": 1, "steps": [{"rotate": {"yaw": 10}}, step]})
+    page.click("#m-droste")
+    for x, y in [corners[0], corners[2], corners[1], corners[3]]:
+        page.mouse.click(box["x"] + x, box["y"] + y)
+    page.wait_for_function("document.getElementById('status').className === 'bad'")
+    assert "not in order" in page.text_content("#status")
+    assert len(page.evaluate("window.spherewarp.S.recipe.steps")) == 2
+
+
+def test_schottky_disks_by_dragging(page, served, tmp_path):
+    set_recipe(page, {"spherewarp": 1, "steps": []})
+    box = page.locator("#view").bounding_box()
+
+    def disk(c, edge):
+        page.mouse.move(box["x"] + c[0], box["y"] + c[1])
+        page.mouse.down()
+        for k in range(1, 4):
+            page.mouse.move(
+                box["x"] + c[0] + (edge[0] - c[0]) * k / 3,
+                box["y"] + c[1] + (edge[1] - c[1]) * k / 3,
+            )
+        page.mouse.up()
+
+    page.click("#m-schottky")
+    disk((64, 64), (76, 64))  # D_x round (-90, 0), 16.875 degrees
+    disk((192, 64), (192, 74))  # D_X round (90, 0), 14.0625 degrees
+    wait_steps(page, 1)
+    gen = page.evaluate("window.spherewarp.S.recipe.steps[0].schottky.generators")
+    assert len(gen) == 1
+    assert np.allclose(gen[0]["disk"], [-90, 0, 12 / W * 360], atol=1e-4)
+    assert np.allclose(gen[0]["to"], [90, 0, 10 / H * 180], atol=1e-4)
+    # a second pair joins the same step
+    page.click("#m-schottky")
+    disk((128, 20), (128, 30))
+    disk((128, 108), (136, 108))
+    page.wait_for_function("window.spherewarp.S.recipe.steps[0].schottky.generators.length == 2")
+    page.evaluate("window.spherewarp.settle()")
+    assert len(page.evaluate("window.spherewarp.S.recipe.steps")) == 1
+    value = replay(served, page, tmp_path)
+    print(f"schottky disks by dragging: replay PSNR {value:.2f} dB")
+    assert value >= 35
+
+
+FPS = 4
+
+
+def write_video(path, frames) -> None:
+    """A WebM (VP9, BT.601 tagged) of the frames, FPS a second."""
+    import av
+
+    with av.open(str(path), "w") as c:
+        s = c.add_stream("libvpx-vp9", rate=FPS)
+        s.width, s.height = frames[0].shape[1], frames[0].shape[0]
+        s.pix_fmt = "yuv420p"
+        s.options = {"crf": "4", "b": "0", "deadline": "good", "cpu-used": "8"}
+        for a in frames:
+            f = av.VideoFrame.from_ndarray(a, format="rgb24")
+            for p in s.encode(f):
+                c.mux(p)
+        for p in s.encode():
+            c.mux(p)
+
+
+def decoded(path) -> list[np.ndarray]:
+    import av
+
+    with av.open(str(path)) as c:
+        return [f.to_ndarray(format="rgb24") for f in c.decode(video=0)]
+
+
+@pytest.fixture(scope="module")
+def video(tmp_path_factory, served):
+    """8 frames of the sample panorama, turning 45 degrees a frame (256x128, 2 s)."""
+    base = np.asarray(Image.open(served.image_path).convert("RGB").resize((256, 128)))
+    frames = [np.roll(base, 32 * k, axis=1) for k in range(8)]
+    path = tmp_path_factory.mktemp("video") / "turn.webm"
+    write_video(path, frames)
+    return path
+
+
+def test_video_plays_warped(browser, video, tmp_path):
+    """'spherewarp view VIDEO': the page plays the video (range requests) with the effect
+    live; paused at a frame's time it shows that frame warped, as 'spherewarp render'."""
+    srv = ViewerServer(video, None)
+    pg = browser.new_page(viewport={"width": 1000, "height": 600})
+    try:
+        pg.goto(srv.url + f"?view=flat&size={W}x{H}")
+        pg.wait_for_function(
+            "window.spherewarp && (window.spherewarp.ready || window.spherewarp.error)"
+        )
+        assert pg.evaluate("window.spherewarp.error") is None
+        # it plays: the time and the picture change
+        pg.evaluate("window.spherewarp.S.video.play()")
+        n0 = pg.evaluate("window.spherewarp.S.frames")
+        how = "v => [v.paused, v.readyState, v.networkState, v.currentTime, v.error]"
+        # four frame times seen (it loops: not "later than", which a wrap would miss)
+        seen_times = """(() => {
+            const seen = (window.seenTimes = window.seenTimes || new Set());
+            seen.add(window.spherewarp.S.videoTime);
+            return seen.size >= 4;
+        })()"""
+        try:
+            pg.wait_for_function(seen_times, timeout=60000)
+        except Exception:
+            raise AssertionError(pg.evaluate(f"({how})(window.spherewarp.S.video)")) from None
+        assert pg.evaluate("window.spherewarp.S.frames") > n0
+        # an animated recipe: its time is the video's
+        factor = {"keyframes": [[0, 1], [2, 3]]}
+        recipe = {"spherewarp": 1, "steps": [{"zoom": {"at": [20, 10], "factor": factor}}]}
+        set_recipe(pg, recipe)
+        frames = decoded(video)
+        seen = []
+        for k in (2, 5):
+            t = pg.evaluate("t => window.spherewarp.seek(t)", (k + 0.5) / FPS)
+            assert abs(t - (k + 0.5) / FPS) < 1e-3
+            got = shown(pg)
+            r = Recipe.from_dict({**recipe, "view": {"size": [W, H]}})
+            out = r.render(frames[k], t=k / FPS)  # the recipe at the frame's time
+            want = np.asarray(getattr(out, "pixels", out))[..., :3].astype(np.float64)
+            value = psnr(got, want)
+            print(f"video frame {k} warped: PSNR {value:.2f} dB")
+            assert value >= 35
+            seen.append(got)
+        assert np.abs(seen[0] - seen[1]).mean() > 10  # two frames, not one
+        # "Render full resolution" (the video's own size here): the frame shown
+        with pg.expect_download(timeout=120000) as dl:
+            pg.click("#render")
+        out = tmp_path / "full.png"
+        dl.value.save_as(out)
+        full = np.asarray(Image.open(out).convert("RGB")).astype(np.float64)
+        value = psnr(seen[1], full)
+        print(f"video frame 5, render full resolution: PSNR {value:.2f} dB")
+        assert value >= 35
+        (tmp_path / "video.png").write_bytes(pg.screenshot())
+        # "Copy as command": 'spherewarp video', the recipe at each frame's time
+        pg.click("#copy")
+        text = pg.input_value("#cli")
+        assert text.endswith(
+            f"spherewarp video turn.webm -o out.mp4 --size {W}x{H} recipe recipe.json"
+        )
+        shutil.copy(video, tmp_path / "turn.webm")
+        env = {**os.environ, "PATH": f"{os.path.dirname(sys.executable)}:{os.environ['PATH']}"}
+        subprocess.run(["bash", "-c", text], cwd=tmp_path, env=env, check=True, capture_output=True)
+        made = decoded(tmp_path / "out.mp4")
+        assert len(made) == len(frames)
+        value = psnr(seen[1], made[5].astype(np.float64))
+        print(f"video frame 5 vs the copied command's video (x264): PSNR {value:.2f} dB")
+        assert value >= 35  # the page against an encoded video (x264, crf 18)
+    finally:
+        pg.close()
+        srv.close()

@@ -56,7 +56,8 @@ def test_state_and_assets(served):
     status, data, _ = _req(srv, "GET", "/api/state")
     state = json.loads(data)
     assert status == 200
-    assert state["image"] == {"width": 64, "height": 32, "name": "pano.png"}
+    assert state["image"] == {"width": 64, "height": 32, "name": "pano.png", "video": False}
+    assert state["rate"] is None
     assert "#define STAGE_MOBIUS 1" in state["glsl_header"]
     assert state["stages"]["codes"] == []  # no steps: no stages
     assert "#define STAGE_EXPRESSION 64" in state["glsl_header"]
@@ -232,3 +233,170 @@ def test_cli_view_bad_recipe_is_one_line(tmp_path):
         "spherewarp: error: steps[0]: unknown effect 'zooom' (did you mean 'zoom'?)"
     ]
     assert _snapshot(tmp_path) == before
+
+
+def _mask_recipe(mask: str) -> dict:
+    targets = [{"colour": "#ff0000", "to": [180, 0, 20]}]
+    return {"spherewarp": 1, "steps": [{"schottky": {"mask": mask, "targets": targets}}]}
+
+
+def test_masks_only_the_files_it_was_started_with(tmp_path):
+    """A recipe from the page may name only the masks the server was started with (its
+    --recipe's, and --mask): any other file, readable or not, existing or not, is a 403
+    before it is looked at, and nothing derived from it goes back."""
+    d = tmp_path / "work"
+    d.mkdir()
+    mask = np.zeros((32, 64, 3), np.uint8)
+    mask[12:20, 28:36] = (255, 0, 0)
+    for name in ("mask.png", "beside.png", "extra.png"):
+        Image.fromarray(mask).save(d / name)
+    outside = tmp_path / "outside.png"
+    Image.fromarray(mask).save(outside)
+    (d / "link.png").symlink_to(outside)
+    (d / "r.json").write_text(json.dumps(_mask_recipe("mask.png")))
+    srv = ViewerServer(None, d / "r.json", masks=[d / "extra.png"])
+    try:
+        before = _snapshot(tmp_path)
+        for ok in ("mask.png", str(d / "mask.png"), str(d / "extra.png"), "../work/mask.png"):
+            status, data, _ = _req(
+                srv, "POST", "/api/stages", json.dumps(_mask_recipe(ok)).encode()
+            )
+            assert status == 200, (ok, data)
+            key = json.loads(data)["stages"]["labels"][0]["key"]
+            assert _req(srv, "GET", f"/api/labels/{key}")[0] == 200
+        for bad in (
+            "beside.png",  # beside the recipe, but not named by it
+            str(outside),
+            "link.png",  # a link beside it, to a file outside
+            "/etc/passwd",
+            "/etc/no-such-file",  # no "not found": the answer says nothing of other files
+            "~/.ssh/id_rsa",
+        ):
+            for path in ("/api/stages", "/api/render"):
+                body = json.dumps(_mask_recipe(bad)).encode()
+                status, data, _ = _req(srv, "POST", path, body)
+                assert status == 403, (bad, path, data)
+                err = json.loads(data)["error"]
+                assert "is not a file this viewer was started with" in err, err
+                assert "not found" not in err
+        # the droste mask too
+        droste = {"spherewarp": 1, "steps": [{"droste": {"center": [0, 0], "mask": "/etc/passwd"}}]}
+        assert _req(srv, "POST", "/api/stages", json.dumps(droste).encode())[0] == 403
+        assert not srv.jobs and _snapshot(tmp_path) == before
+    finally:
+        srv.close()
+    # a server started without a recipe or --mask reads no mask at all
+    srv = ViewerServer(None, None)
+    try:
+        body = json.dumps(_mask_recipe(str(d / "mask.png"))).encode()
+        assert _req(srv, "POST", "/api/stages", body)[0] == 403
+    finally:
+        srv.close()
+
+
+def test_label_cache_is_a_locked_lru():
+    import threading
+
+    from spherewarp.viewer.server import LabelCache
+
+    cache = LabelCache(4)
+
+    def work(k: int) -> None:
+        for i in range(300):
+            cache.update({f"{k}-{i}": i})
+            cache.get(f"{k}-{i - 1}")
+            assert len(cache) <= 4
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(6)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert len(cache) == 4
+    for k in "abcd":
+        cache.update({k: k})
+    assert cache.get("a") == "a"  # now the most recently used
+    cache.update({"e": "e"})
+    assert cache.get("a") == "a" and cache.get("b") is None  # the least recently used went
+
+
+def test_video_with_range_requests(tmp_path):
+    """'spherewarp view VIDEO': the server serves that file with byte ranges (the page's
+    video element seeks with them), and nothing else beside it."""
+    import av
+
+    path = tmp_path / "clip.webm"
+    with av.open(str(path), "w") as c:
+        s = c.add_stream("libvpx-vp9", rate=2)
+        s.width, s.height, s.pix_fmt = 64, 32, "yuv420p"
+        for k in range(3):
+            a = np.full((32, 64, 3), 40 * k, np.uint8)
+            for p in s.encode(av.VideoFrame.from_ndarray(a, format="rgb24")):
+                c.mux(p)
+        for p in s.encode():
+            c.mux(p)
+    (tmp_path / "secret.txt").write_text("do not serve")
+    whole = path.read_bytes()
+    srv = ViewerServer(path, None)
+    try:
+        state = json.loads(_req(srv, "GET", "/api/state")[1])
+        assert state["image"] == {"width": 64, "height": 32, "name": "clip.webm", "video": True}
+        assert state["rate"] == 2
+        status, data, r = _req(srv, "GET", "/image")  # the first frame
+        assert status == 200 and data[:4] == b"\x89PNG"
+        status, data, r = _req(srv, "GET", "/video")
+        assert status == 200 and data == whole and r.getheader("Accept-Ranges") == "bytes"
+        assert r.getheader("Content-Type") == "video/webm"
+        n = len(whole)
+        for rng, (a, b) in [
+            ("bytes=0-99", (0, 99)),
+            ("bytes=100-", (100, n - 1)),
+            ("bytes=-50", (n - 50, n - 1)),
+            (f"bytes=10-{n + 500}", (10, n - 1)),
+        ]:
+            status, data, r = _req(srv, "GET", "/video", headers={"Range": rng})
+            assert status == 206 and data == whole[a : b + 1], rng
+            assert r.getheader("Content-Range") == f"bytes {a}-{b}/{n}"
+        for bad in (f"bytes={n}-", "bytes=5-2", "bytes=0-1,5-6", "items=0-1", "bytes=x-"):
+            status, data, _ = _req(srv, "GET", "/video", headers={"Range": bad})
+            assert status == 416, bad
+            assert "do not serve" not in data.decode()
+        for path_ in (
+            "/video/../secret.txt",
+            "/secret.txt",
+            "/clip.webm",
+            "/video%2f..%2fsecret.txt",
+        ):
+            assert _req(srv, "GET", path_)[0] == 404, path_
+        assert _req(srv, "GET", "/video", headers={"Host": "evil.example"})[0] == 403
+        # "render full resolution" of the frame at ?t= (a bad t: 400, no job)
+        body = json.dumps({"spherewarp": 1, "steps": []}).encode()
+        for bad in ("-1", "nan", "abc", "1e9"):
+            status, data, _ = _req(srv, "POST", f"/api/render?t={bad}", body)
+            assert status == 400 and "t: expected a time" in json.loads(data)["error"], bad
+        assert not srv.jobs
+        from spherewarp.viewer.server import video_frame
+
+        assert video_frame(path, 1.2)[0, 0, 0] > video_frame(path, 0.7)[0, 0, 0] > 20
+    finally:
+        srv.close()
+    # an image server has no /video
+    srv = ViewerServer(None, None)
+    try:
+        assert _req(srv, "GET", "/video")[0] == 404
+    finally:
+        srv.close()
+
+
+def test_cli_view_bad_video_is_one_line(tmp_path):
+    bad = tmp_path / "bad.mp4"
+    bad.write_text("not a video")
+    p = subprocess.run(
+        [sys.executable, "-m", "spherewarp", "view", "--no-browser", str(bad)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert p.returncode != 0 and p.stdout == "" and "Traceback" not in p.stderr
+    assert len(p.stderr.strip().splitlines()) == 1
+    assert "not a video file" in p.stderr

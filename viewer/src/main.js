@@ -5,6 +5,7 @@ const MAX_STAGES = 32;
 const DEG = Math.PI / 180;
 const $ = (id) => document.getElementById(id);
 const canvas = $("view");
+const marks = $("marks"); // the 2D layer over the canvas: pins, clicked corners, disks
 const status = (text, bad = false) => {
   $("status").textContent = text;
   $("status").className = bad ? "bad" : "";
@@ -13,6 +14,8 @@ const status = (text, bad = false) => {
 const S = {
   recipe: { spherewarp: 1, steps: [] },
   view: "flat",
+  side: null, // a second panel: another view of the edit, or "original" (the image unedited)
+  mode: null, // clicking out a step: {kind: "droste", points} or {kind: "schottky", disks}
   size: [1024, 512],
   look: [0, 0, 90], // yaw, pitch, fov in degrees (sphere view)
   planet: 1.0,
@@ -32,7 +35,7 @@ const S = {
 // -- WebGL ---------------------------------------------------------------------------------------
 const gl = canvas.getContext("webgl2", { preserveDrawingBuffer: true, antialias: false });
 const UNIFORMS = ["uImage", "uParams", "uCodes", "uCount", "uView", "uSize", "uLook", "uPlanet",
-  "uSS", "uPattern", "uOverlay", "uLabels"];
+  "uSS", "uPattern", "uOverlay", "uLabels", "uOrigin"];
 let uni = {};
 let paramsTex = null;
 let labelsTex = null;
@@ -83,8 +86,9 @@ function compile(hdr) {
   gl.vertexAttribPointer(0, 2, gl.FLOAT, false, 0, 0);
 }
 
-function uploadImage(img, unit = 0) {
-  const tex = gl.createTexture();
+// an image or a video's current frame into a mipmapped texture (a new one unless given)
+function uploadImage(img, unit = 0, tex = null) {
+  tex = tex || gl.createTexture();
   gl.activeTexture(gl.TEXTURE0 + unit);
   gl.bindTexture(gl.TEXTURE_2D, tex);
   gl.pixelStorei(gl.UNPACK_COLORSPACE_CONVERSION_WEBGL, gl.NONE);
@@ -95,6 +99,54 @@ function uploadImage(img, unit = 0) {
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.REPEAT);
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
+  return tex;
+}
+
+// -- a video as the texture: each new frame uploaded and drawn as it plays ------------------------
+let videoTex = null;
+
+function videoFrame() {
+  const v = S.video;
+  if (v.readyState < 2) return;
+  S.videoTime = v.currentTime;
+  uploadImage(v, 0, videoTex);
+  draw();
+  if (animated()) restage(); // the recipe at the video's time (drawn again when it comes)
+  $("vtime").textContent = `${v.currentTime.toFixed(2)} s`;
+  if (!S.seeking && v.duration) $("vseek").value = v.currentTime / v.duration;
+}
+
+async function startVideo() {
+  const v = document.createElement("video");
+  v.muted = true;
+  v.loop = true;
+  v.playsInline = true;
+  v.preload = "auto";
+  const loaded = new Promise((res, rej) => {
+    v.addEventListener("loadeddata", res, { once: true });
+    v.addEventListener("error", () => rej(new Error(`video: ${v.error ? v.error.message || `error ${v.error.code}` : "cannot play"} (the browser may lack its codec)`)), { once: true });
+  });
+  v.src = "video"; // served with range requests: the browser seeks by itself
+  await loaded;
+  S.video = v;
+  videoTex = uploadImage(v, 0);
+  // a frame is uploaded when the time shown has changed (playing, or after a seek)
+  const tick = () => {
+    if (v.currentTime !== S.videoTime && !v.seeking) videoFrame();
+    requestAnimationFrame(tick);
+  };
+  requestAnimationFrame(tick);
+  v.addEventListener("seeked", videoFrame);
+  $("vctl").hidden = false;
+  $("play").onclick = () => (v.paused ? v.play() : v.pause());
+  v.addEventListener("play", () => ($("play").textContent = "Pause"));
+  v.addEventListener("pause", () => ($("play").textContent = "Play"));
+  $("vseek").oninput = () => {
+    S.seeking = true;
+    v.currentTime = +$("vseek").value * (v.duration || 0);
+  };
+  $("vseek").onchange = () => (S.seeking = false);
+  v.play().catch(() => ($("play").textContent = "Play")); // a browser may refuse autoplay
 }
 
 // the stages this shader runs (shader.js); a stage added to the table later is named, not
@@ -157,13 +209,21 @@ async function uploadStages(st) {
   S.stages = st;
 }
 
+// the panels side by side, left to right: {view, edited}
+function panels() {
+  const main = { view: S.view, edited: true };
+  if (!S.side) return [main];
+  if (S.side === "original") return [main, { view: S.view, edited: false }];
+  return [main, { view: S.side, edited: true }];
+}
+
 function draw() {
   const [w, h] = S.size;
-  if (canvas.width !== w || canvas.height !== h) {
-    canvas.width = w;
+  const list = panels();
+  if (canvas.width !== w * list.length || canvas.height !== h) {
+    canvas.width = w * list.length;
     canvas.height = h;
   }
-  gl.viewport(0, 0, w, h);
   const codes = new Int32Array(MAX_STAGES);
   if (S.stages && S.stages.codes) codes.set(S.stages.codes);
   gl.uniform1iv(uni.uCodes, codes);
@@ -171,25 +231,140 @@ function draw() {
   gl.uniform1i(uni.uParams, 1);
   gl.uniform1i(uni.uPattern, 2);
   gl.uniform1i(uni.uLabels, 3);
-  gl.uniform1i(uni.uCount, S.stages && S.stages.codes ? S.stages.codes.length : -1);
-  gl.uniform1i(uni.uView, { flat: 0, sphere: 1, planet: 2 }[S.view]);
   gl.uniform2f(uni.uSize, w, h);
   gl.uniform3f(uni.uLook, S.look[0] * DEG, S.look[1] * DEG, S.look[2] * DEG);
   gl.uniform1f(uni.uPlanet, S.planet);
   gl.uniform1i(uni.uSS, S.ss);
   gl.uniform1f(uni.uOverlay, S.overlay);
-  gl.drawArrays(gl.TRIANGLES, 0, 3);
+  const count = S.stages && S.stages.codes ? S.stages.codes.length : -1;
+  list.forEach((panel, i) => {
+    gl.viewport(i * w, 0, w, h);
+    gl.uniform2f(uni.uOrigin, i * w, 0);
+    gl.uniform1i(uni.uCount, panel.edited ? count : 0); // no stages: the image itself
+    gl.uniform1i(uni.uView, { flat: 0, sphere: 1, planet: 2 }[panel.view]);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+  });
   S.frames += 1;
+  drawMarks();
+}
+
+// -- marks over the canvas: the pins, the corners clicked so far, the Schottky disks -----------
+function drawMarks() {
+  const [w, h] = S.size;
+  const list = panels();
+  if (marks.width !== canvas.width || marks.height !== canvas.height) {
+    marks.width = canvas.width;
+    marks.height = canvas.height;
+  }
+  const c = marks.getContext("2d");
+  c.clearRect(0, 0, marks.width, marks.height);
+  const dot = (x, y, colour, r = 5) => {
+    c.beginPath();
+    c.arc(x, y, r, 0, 2 * Math.PI);
+    c.lineWidth = 3;
+    c.strokeStyle = "black";
+    c.stroke();
+    c.lineWidth = 1.5;
+    c.strokeStyle = colour;
+    c.stroke();
+  };
+  // a line through points on the sphere, broken where it leaves the panel or jumps the seam
+  const line = (pts, colour, x0, view, closed) => {
+    const all = closed ? [...pts, pts[0]] : pts;
+    c.lineWidth = 1.5;
+    c.strokeStyle = colour;
+    c.beginPath();
+    let prev = null;
+    for (const p of all) {
+      const q = lonLatToPixel(p[0], p[1], view);
+      if (q && prev && Math.abs(q[0] - prev[0]) < w / 2) c.lineTo(x0 + q[0], q[1]);
+      else if (q) c.moveTo(x0 + q[0], q[1]);
+      prev = q;
+    }
+    c.stroke();
+  };
+  list.forEach((panel, i) => {
+    const x0 = i * w;
+    c.save();
+    c.beginPath();
+    c.rect(x0, 0, w, h);
+    c.clip();
+    if (i > 0) {
+      c.fillStyle = "#1d1f21";
+      c.fillRect(x0, 0, 1, h);
+    }
+    if (panel.edited) {
+      for (const pin of S.pins) {
+        const q = lonLatToPixel(pin[0], pin[1], panel.view);
+        if (q) dot(x0 + q[0], q[1], "#ffd54a");
+      }
+      const m = S.mode;
+      if (m && m.kind === "droste") {
+        m.points.forEach((p) => {
+          const q = lonLatToPixel(p[0], p[1], panel.view);
+          if (q) dot(x0 + q[0], q[1], "#4ae3ff", 4);
+        });
+        if (m.points.length > 1) line(arcs(m.points, false), "#4ae3ff", x0, panel.view, false);
+      }
+      if (m && m.kind === "schottky") {
+        const disks = m.cur ? [...m.disks, m.cur] : m.disks;
+        disks.forEach((d, k) => line(circle(d), k % 2 ? "#ff7a4a" : "#7aff4a", x0, panel.view, true));
+      }
+    }
+    c.restore();
+  });
+}
+
+const unit = (p) => {
+  const [lon, lat] = [p[0] * DEG, p[1] * DEG];
+  return [Math.cos(lat) * Math.cos(lon), Math.cos(lat) * Math.sin(lon), Math.sin(lat)];
+};
+const lonlat = (d) => [Math.atan2(d[1], d[0]) / DEG, Math.atan2(d[2], Math.hypot(d[0], d[1])) / DEG];
+const angle = (a, b) => {
+  const [u, v] = [unit(a), unit(b)];
+  return Math.acos(Math.max(-1, Math.min(1, u[0] * v[0] + u[1] * v[1] + u[2] * v[2]))) / DEG;
+};
+
+// great-circle arcs through the points, 16 pieces each (the edges of a frame)
+function arcs(pts, closed) {
+  const out = [];
+  const n = closed ? pts.length : pts.length - 1;
+  for (let k = 0; k < n; k++) {
+    const [a, b] = [unit(pts[k]), unit(pts[(k + 1) % pts.length])];
+    for (let j = 0; j <= 16; j++) {
+      const t = j / 16;
+      out.push(lonlat(a.map((x, i) => x * (1 - t) + b[i] * t)));
+    }
+  }
+  return out;
+}
+
+// the circle of a disk [lon, lat, radius] on the sphere, as 72 points
+function circle(d) {
+  const cv = unit(d);
+  const e1 = Math.abs(cv[2]) < 0.9 ? [0, 0, 1] : [1, 0, 0];
+  const dotp = e1[0] * cv[0] + e1[1] * cv[1] + e1[2] * cv[2];
+  let a = e1.map((x, i) => x - dotp * cv[i]);
+  const n = Math.hypot(...a);
+  a = a.map((x) => x / n);
+  const b = [cv[1] * a[2] - cv[2] * a[1], cv[2] * a[0] - cv[0] * a[2], cv[0] * a[1] - cv[1] * a[0]];
+  const r = d[2] * DEG;
+  const pts = [];
+  for (let k = 0; k < 72; k++) {
+    const t = (2 * Math.PI * k) / 72;
+    pts.push(lonlat(cv.map((x, i) => Math.cos(r) * x + Math.sin(r) * (Math.cos(t) * a[i] + Math.sin(t) * b[i]))));
+  }
+  return pts;
 }
 
 // -- the views, in JS as in the shader's outDir: canvas pixel <-> (lon, lat) degrees ----------
-function pixelToLonLat(px, py) {
+function pixelToLonLat(px, py, view = S.view) {
   const [w, h] = S.size;
-  if (S.view === "flat") return [(px / w) * 360 - 180, 90 - (py / h) * 180];
+  if (view === "flat") return [(px / w) * 360 - 180, 90 - (py / h) * 180];
   const nx = (2 * px - w) / w;
   const ny = (2 * py - h) / w;
   let d;
-  if (S.view === "sphere") {
+  if (view === "sphere") {
     const [yaw, pitch, fov] = S.look.map((a) => a * DEG);
     const cy = Math.cos(yaw), sy = Math.sin(yaw), cp = Math.cos(pitch), sp = Math.sin(pitch);
     const k = Math.tan(fov / 2);
@@ -210,9 +385,40 @@ function pixelToLonLat(px, py) {
   return [lon, lat];
 }
 
-function eventPixel(ev) {
+// the panel's pixel (px, py) of the point (lon, lat) in degrees, or null where the view
+// does not show it (behind the sphere view's camera)
+function lonLatToPixel(lon, lat, view = S.view) {
+  const [w, h] = S.size;
+  if (view === "flat") return [(((lon + 180) % 360) + 360) % 360 / 360 * w, ((90 - lat) / 180) * h];
+  const d = unit([lon, lat]);
+  let nx, ny;
+  if (view === "sphere") {
+    const [yaw, pitch, fov] = S.look.map((a) => a * DEG);
+    const cy = Math.cos(yaw), sy = Math.sin(yaw), cp = Math.cos(pitch), sp = Math.sin(pitch);
+    const f = [cp * cy, cp * sy, sp], r = [-sy, cy, 0], u = [-sp * cy, -sp * sy, cp];
+    const dt = (a) => a[0] * d[0] + a[1] * d[1] + a[2] * d[2];
+    const k = Math.tan(fov / 2);
+    if (dt(f) <= 1e-6) return null;
+    nx = dt(r) / (k * dt(f));
+    ny = -dt(u) / (k * dt(f));
+  } else {
+    if (d[2] > 1 - 1e-9) return null; // the zenith is at infinity
+    const qx = d[0] / (1 - d[2]), qy = -d[1] / (1 - d[2]);
+    const cy = Math.cos(S.look[0] * DEG), sy = Math.sin(S.look[0] * DEG);
+    nx = (cy * qx + sy * qy) / S.planet;
+    ny = (-sy * qx + cy * qy) / S.planet;
+  }
+  const px = ((nx + 1) * w) / 2, py = (ny * w + h) / 2;
+  return Math.abs(px) < 1e5 && Math.abs(py) < 1e5 ? [px, py] : null;
+}
+
+// the event's pixel in a panel (the one under it, or the given one) and that panel
+function eventPixel(ev, panel = null) {
   const r = canvas.getBoundingClientRect();
-  return [((ev.clientX - r.left) * S.size[0]) / r.width, ((ev.clientY - r.top) * S.size[1]) / r.height];
+  const x = ((ev.clientX - r.left) * canvas.width) / r.width;
+  const y = ((ev.clientY - r.top) * canvas.height) / r.height;
+  const i = panel ?? Math.max(0, Math.min(panels().length - 1, Math.floor(x / S.size[0])));
+  return [x - i * S.size[0], y, i];
 }
 
 const round = (p) => p.map((v) => Math.round(v * 1e6) / 1e6);
@@ -234,10 +440,24 @@ async function post(path, recipe) {
 
 // the latest recipe wins; one request in flight at a time
 function refresh() {
-  pending = JSON.parse(JSON.stringify(S.recipe));
-  if (!inflight) pump();
+  restage();
   writeURL();
 }
+
+// the stages again: the recipe changed, or (an animated recipe over a video) the time did
+function restage() {
+  pending = JSON.parse(JSON.stringify(S.recipe));
+  if (!inflight) pump();
+}
+
+// the recipe's time: that of the video's frame shown (as 'spherewarp video' renders each
+// frame: the recipe at the frame's time), else 0
+function recipeTime() {
+  if (!S.video) return 0;
+  const t = S.video.currentTime;
+  return S.rate ? Math.floor(t * S.rate + 1e-4) / S.rate : t;
+}
+const animated = () => JSON.stringify(S.recipe).includes('"keyframes"');
 
 async function pump() {
   inflight = true;
@@ -245,7 +465,8 @@ async function pump() {
     const recipe = pending;
     pending = null;
     try {
-      const { stages } = await post("api/stages", recipe);
+      const at = S.video ? `?t=${recipeTime()}` : "";
+      const { stages } = await post(`api/stages${at}`, recipe);
       await uploadStages(stages);
       if (stages.codes) status(`${recipe.steps.length} step(s), ${stages.codes.length} stage(s)`);
     } catch (e) {
@@ -282,6 +503,7 @@ function writeURL() {
   q.set("view", S.view);
   q.set("size", `${S.size[0]}x${S.size[1]}`);
   if (S.ss !== 2) q.set("ss", S.ss);
+  if (S.side) q.set("side", S.side);
   q.set("recipe", JSON.stringify(S.recipe));
   history.replaceState(null, "", `?${q}`);
 }
@@ -291,6 +513,7 @@ function readURL() {
   if (["flat", "sphere", "planet"].includes(q.get("view"))) S.view = q.get("view");
   const m = /^(\d+)x(\d+)$/.exec(q.get("size") || "");
   if (m) S.size = [Math.min(+m[1], 8192), Math.min(+m[2], 8192)];
+  if (["flat", "sphere", "planet", "original"].includes(q.get("side"))) S.side = q.get("side");
   const ss = +q.get("ss");
   if (ss >= 1 && ss <= 4) S.ss = Math.round(ss);
   if (q.get("recipe")) {
@@ -305,50 +528,132 @@ function readURL() {
 // -- direct manipulation ---------------------------------------------------------------------
 let drag = null;
 
+// a recipe checked by the server first (a frame whose corners are out of order, disks that
+// overlap: the server's line, and the recipe stays as it was)
+async function commitChecked(recipe, what) {
+  try {
+    await post("api/stages", recipe);
+  } catch (e) {
+    status(`${what}: ${e.message}`, true);
+    return false;
+  }
+  commit(recipe);
+  return true;
+}
+
+function setMode(kind) {
+  S.mode = kind === null || (S.mode && S.mode.kind === kind) ? null : { kind, points: [], disks: [], cur: null };
+  $("m-droste").classList.toggle("on", !!S.mode && S.mode.kind === "droste");
+  $("m-schottky").classList.toggle("on", !!S.mode && S.mode.kind === "schottky");
+  if (S.mode && S.mode.kind === "droste") status("Droste frame: click its four corners, in order round the frame");
+  if (S.mode && S.mode.kind === "schottky")
+    status("Schottky disks: press at a centre and drag out the radius, for D_x and then its target D_X");
+  drawMarks();
+}
+
+// the four corners clicked: a droste step with that frame (spherewarp droste --corners)
+async function drosteClick(at) {
+  const m = S.mode;
+  m.points.push(round(at));
+  drawMarks();
+  if (m.points.length < 4) return status(`Droste frame: corner ${m.points.length} of 4`);
+  const frame = m.points;
+  setMode(null);
+  if (await commitChecked({ ...S.recipe, steps: [...S.recipe.steps, { droste: { frame } }] }, "Droste frame"))
+    status("Droste frame added");
+}
+
+// a disk drawn: D_x, then its target D_X; the pair is a generator of the last schottky step
+// (or of a new one)
+async function schottkyDisk(disk) {
+  const m = S.mode;
+  m.disks.push(disk);
+  m.cur = null;
+  drawMarks();
+  if (m.disks.length < 2) return status("Schottky disks: now the target disk D_X");
+  const gen = { disk: m.disks[0], to: m.disks[1] };
+  setMode(null);
+  const steps = [...S.recipe.steps];
+  const last = steps[steps.length - 1];
+  if (last && last.schottky && Array.isArray(last.schottky.generators))
+    steps[steps.length - 1] = { schottky: { ...last.schottky, generators: [...last.schottky.generators, gen] } };
+  else steps.push({ schottky: { generators: [gen] } });
+  if (await commitChecked({ ...S.recipe, steps }, "Schottky disks")) status("Schottky generator added");
+}
+
 canvas.addEventListener("mousedown", (ev) => {
   ev.preventDefault();
-  const [px, py] = eventPixel(ev);
-  const at = pixelToLonLat(px, py);
+  const [px, py, i] = eventPixel(ev);
+  const panel = panels()[i];
+  const at = pixelToLonLat(px, py, panel.view);
+  const look = () => (drag = { look: true, x: ev.clientX, y: ev.clientY, start: [...S.look] });
+  if (!panel.edited) {
+    if (panel.view === "sphere") look();
+    else status("this panel is the image unedited: edit in the other one");
+    return;
+  }
+  if (S.mode && S.mode.kind === "droste") return void drosteClick(at);
+  if (S.mode && S.mode.kind === "schottky") {
+    S.mode.cur = [...round(at), 0];
+    drag = { disk: true, panel: i, view: panel.view };
+    return;
+  }
   if (ev.altKey) {  // pin a point (the older pin goes)
     S.pins = [S.pins[1], round(at)];
     showPins();
+    drawMarks();
     return;
   }
-  if (S.view === "sphere" && !ev.shiftKey) {
-    drag = { look: true, x: ev.clientX, y: ev.clientY, start: [...S.look] };
-    return;
-  }
-  drag = { from: round(at), base: JSON.parse(JSON.stringify(S.recipe)), moved: false };
+  if (panel.view === "sphere" && !ev.shiftKey) return void look();
+  drag = { from: round(at), base: JSON.parse(JSON.stringify(S.recipe)), moved: false, panel: i, view: panel.view };
 });
 
-function dragStep(to) {
-  return { mobius: { from: [drag.from, ...S.pins], to: [round(to), ...S.pins] } };
+function dragStep(from, to) {
+  return { mobius: { from: [from, ...S.pins], to: [round(to), ...S.pins] } };
 }
+
+const dragAt = (ev) => {
+  const [px, py] = eventPixel(ev, drag.panel);
+  return pixelToLonLat(px, py, drag.view);
+};
 
 window.addEventListener("mousemove", (ev) => {
   if (!drag) return;
   if (drag.look) {
-    const k = S.look[2] / canvas.getBoundingClientRect().width;
+    const k = S.look[2] / (canvas.getBoundingClientRect().width / panels().length);
     S.look[0] = drag.start[0] + (ev.clientX - drag.x) * k;
     S.look[1] = Math.max(-89.9, Math.min(89.9, drag.start[1] + (ev.clientY - drag.y) * k));
     draw();
     return;
   }
-  const to = pixelToLonLat(...eventPixel(ev));
+  if (drag.disk) {
+    S.mode.cur[2] = round([angle(S.mode.cur, dragAt(ev))])[0];
+    drawMarks();
+    return;
+  }
   drag.moved = true;
-  S.recipe = { ...drag.base, steps: [...drag.base.steps, dragStep(to)] };
+  S.recipe = { ...drag.base, steps: [...drag.base.steps, dragStep(drag.from, dragAt(ev))] };
   refresh();
 });
 
 window.addEventListener("mouseup", (ev) => {
   if (!drag) return;
   const d = drag;
+  const to = d.look ? null : dragAt(ev);
   drag = null;
+  if (d.disk) {
+    const disk = [...S.mode.cur.slice(0, 2), round([angle(S.mode.cur, to)])[0]];
+    if (!(disk[2] >= 0.5 && disk[2] < 90)) {
+      S.mode.cur = null;
+      drawMarks();
+      return status("Schottky disks: drag out a radius (0.5 to 90 degrees) from the centre", true);
+    }
+    return void schottkyDisk(disk);
+  }
   if (d.look || !d.moved) return;
-  const to = pixelToLonLat(...eventPixel(ev));
   S.undo.push(JSON.stringify(d.base));
   S.redo = [];
-  S.recipe = { ...d.base, steps: [...d.base.steps, { mobius: { from: [d.from, ...S.pins], to: [round(to), ...S.pins] } }] };
+  S.recipe = { ...d.base, steps: [...d.base.steps, dragStep(d.from, to)] };
   refresh();
   buildSliders();
 });
@@ -357,8 +662,10 @@ canvas.addEventListener(
   "wheel",
   (ev) => {
     ev.preventDefault();
-    if (ev.ctrlKey || ev.metaKey || ev.altKey) {  // a conformal (Möbius) zoom at the cursor
-      const at = round(pixelToLonLat(...eventPixel(ev)));
+    const [px, py, i] = eventPixel(ev);
+    const panel = panels()[i];
+    if ((ev.ctrlKey || ev.metaKey || ev.altKey) && panel.edited) {  // a conformal (Möbius) zoom at the cursor
+      const at = round(pixelToLonLat(px, py, panel.view));
       const f = Math.exp(-ev.deltaY * 0.002);
       const steps = [...S.recipe.steps];
       const last = steps[steps.length - 1];
@@ -366,10 +673,10 @@ canvas.addEventListener(
         steps[steps.length - 1] = { zoom: { at, factor: last.zoom.factor * f } };
       else steps.push({ zoom: { at, factor: f } });
       commit({ ...S.recipe, steps });
-    } else if (S.view === "sphere") {
+    } else if (panel.view === "sphere") {
       S.look[2] = Math.max(10, Math.min(170, S.look[2] * Math.exp(ev.deltaY * 0.001)));
       draw();
-    } else if (S.view === "planet") {
+    } else if (panel.view === "planet") {
       S.planet = Math.max(0.05, Math.min(20, S.planet * Math.exp(ev.deltaY * 0.001)));
       draw();
     }
@@ -378,6 +685,10 @@ canvas.addEventListener(
 );
 
 window.addEventListener("keydown", (ev) => {
+  if (ev.key === "Escape" && S.mode) {
+    setMode(null);
+    return status("cancelled");
+  }
   if (!(ev.ctrlKey || ev.metaKey)) return;
   if (ev.key === "z" && !ev.shiftKey) undo();
   else if (ev.key === "y" || (ev.key === "z" && ev.shiftKey)) redo();
@@ -454,7 +765,10 @@ function download(name, blob) {
 function cliCommand() {
   const json = JSON.stringify(S.recipe, null, 1);
   const [w, h] = S.size;
-  return `cat > recipe.json <<'EOF'\n${json}\nEOF\nspherewarp render recipe.json ${S.imageName} -o out.png --size ${w}x${h}`;
+  const render = S.video // every frame, the recipe at each frame's time
+    ? `spherewarp video ${S.imageName} -o out.mp4 --size ${w}x${h} recipe recipe.json`
+    : `spherewarp render recipe.json ${S.imageName} -o out.png --size ${w}x${h}`;
+  return `cat > recipe.json <<'EOF'\n${json}\nEOF\n${render}`;
 }
 
 function wireButtons() {
@@ -485,7 +799,9 @@ function wireButtons() {
   };
   $("render").onclick = async () => {
     try {
-      const { job } = await post("api/render", S.recipe);
+      // a video: the frame shown now
+      const at = S.video ? `?t=${recipeTime()}` : "";
+      const { job } = await post(`api/render${at}`, S.recipe);
       const poll = async () => {
         const st = await (await fetch(`api/render/${job}`)).json();
         if (st.error) return status(`render: ${st.error}`, true);
@@ -510,6 +826,13 @@ function wireButtons() {
       writeURL();
       draw();
     };
+  $("side").onchange = () => {
+    S.side = $("side").value || null;
+    writeURL();
+    draw();
+  };
+  $("m-droste").onclick = () => setMode("droste");
+  $("m-schottky").onclick = () => setMode("schottky");
   $("overlay").oninput = async () => {
     if (!S.patternLoaded) {
       S.patternLoaded = true;
@@ -531,18 +854,21 @@ function wireButtons() {
 async function start() {
   const state = await (await fetch("api/state")).json();
   S.imageName = state.image.name;
+  S.rate = state.rate;
   S.stageNames = Object.fromEntries(state.table.stages.map((t) => [t.code, t.name]));
   S.recipe = state.recipe;
   const ar = state.image.width / state.image.height;
   S.size = [Math.min(state.image.width, 2048), Math.round(Math.min(state.image.width, 2048) / ar)];
   readURL();
   $("size").value = `${S.size[0]}x${S.size[1]}`;
+  $("side").value = S.side || "";
   compile(state.glsl_header);
   const img = new Image();
-  img.src = "image";
+  img.src = "image"; // a video's first frame
   await img.decode();
   uploadImage(img);
   uploadImage(img, 2); // the overlay's texture until the test pattern is asked for
+  if (state.image.video) await startVideo();
   wireButtons();
   showPins();
   buildSliders();
@@ -554,12 +880,23 @@ window.spherewarp = {
   S,
   draw,
   pixelToLonLat,
+  lonLatToPixel,
   setRecipe: (r) => commit(r),
   // packed stages straight from Python (maps that no recipe effect makes yet)
   setStages: async (st) => {
     await uploadStages(st);
     draw();
   },
+  // the video paused at time t (seconds), its frame there shown; resolves to the time
+  seek: (t) =>
+    new Promise((res) => {
+      const v = S.video;
+      v.pause();
+      v.addEventListener("seeked", () => window.spherewarp.settle().then(() => res(v.currentTime)), {
+        once: true,
+      });
+      v.currentTime = t;
+    }),
   settle: () =>
     new Promise((res) => {
       if (!inflight && !pending) return res();

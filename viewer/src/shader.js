@@ -31,7 +31,8 @@ uniform highp sampler2D uLabels;  // R32F: a masked Schottky stage's labels (wid
 uniform int uCodes[MAX_STAGES];
 uniform int uCount;          // number of stages; -1: the map has none (show a pattern)
 uniform int uView;           // 0 flat, 1 sphere, 2 little planet
-uniform vec2 uSize;          // the canvas in pixels
+uniform vec2 uSize;          // the panel in pixels
+uniform vec2 uOrigin;        // the panel's left edge in the canvas (side by side)
 uniform vec3 uLook;          // yaw, pitch (radians), field of view (radians, horizontal)
 uniform float uPlanet;       // little planet: scale of the plane
 uniform int uSS;             // sub-samples per pixel along each axis (1 to 4)
@@ -361,7 +362,7 @@ vec4 sampleAt(vec2 p, float n) {
 }
 
 void main() {
-  vec2 p = vec2(gl_FragCoord.x, uSize.y - gl_FragCoord.y);
+  vec2 p = vec2(gl_FragCoord.x - uOrigin.x, uSize.y - gl_FragCoord.y);
   if (uCount < 0) {  // no compiled stages: a grey check so that it is plain
     float c = mod(floor(p.x / 16.0) + floor(p.y / 16.0), 2.0);
     color = vec4(vec3(0.35 + 0.1 * c), 1.0);

@@ -15,6 +15,7 @@ __all__ = ["view"]
     epilog=example(
         "spherewarp view room.jpg",
         "spherewarp view room.jpg --recipe zoom.json --port 8360 --no-browser",
+        "spherewarp view walk.mp4",
     )
 )
 @click.argument(
@@ -27,6 +28,15 @@ __all__ = ["view"]
     help="Start from this recipe (the page edits it; 'Save' downloads the edited one).",
 )
 @click.option(
+    "--mask",
+    "masks",
+    multiple=True,
+    type=click.Path(exists=True, dir_okay=False, path_type=Path),
+    metavar="FILE",
+    help="A mask image the page's recipes may name (repeatable); the files the --recipe "
+    "names are allowed too, and no other file.",
+)
+@click.option(
     "--port", type=click.IntRange(0, 65535), default=0, help="Port (default: a free one)."
 )
 @click.option(
@@ -37,8 +47,16 @@ __all__ = ["view"]
     "other machines.",
 )
 @click.option("--no-browser", is_flag=True, help="Print the URL only; do not open a browser.")
-def view(image: Path | None, recipe: Path | None, port: int, host: str, no_browser: bool) -> None:
-    """Show IMAGE in the browser, with live conformal effects on the GPU.
+def view(
+    image: Path | None,
+    recipe: Path | None,
+    masks: tuple[Path, ...],
+    port: int,
+    host: str,
+    no_browser: bool,
+) -> None:
+    """Show IMAGE (or a VIDEO, played) in the browser, with live conformal effects on
+    the GPU.
 
     Drag a point to move the panorama by the Möbius map that takes it to the
     cursor (two pinned points stay fixed); Ctrl + wheel zooms conformally at
@@ -53,8 +71,12 @@ def view(image: Path | None, recipe: Path | None, port: int, host: str, no_brows
             "reach this page",
             err=True,
         )
+    from ..errors import ImageFormatError
+
     try:
-        srv = ViewerServer(image, recipe, host=host, port=port)
+        srv = ViewerServer(image, recipe, masks=masks, host=host, port=port)
+    except ImageFormatError:  # an input that is not an image or a video: its own line
+        raise
     except OSError as exc:
         raise click.BadParameter(
             f"cannot listen on {host}:{port}: {exc.strerror or exc}", param_hint="'--port'"

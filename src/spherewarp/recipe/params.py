@@ -14,7 +14,7 @@ import contextvars
 import difflib
 import math
 import os
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -37,6 +37,8 @@ __all__ = [
     "Disk",
     "Generators",
     "Targets",
+    "FileRefused",
+    "allowed_files",
     "base_dir",
     "describe",
     "suggest",
@@ -352,6 +354,42 @@ def base_dir(path: str | os.PathLike[str] | None) -> Iterator[None]:
         _BASE.reset(token)
 
 
+#: the only files :class:`File` parameters may name (resolved paths), or None: any file
+_ALLOWED: contextvars.ContextVar[frozenset[Path] | None] = contextvars.ContextVar(
+    "recipe_allowed_files", default=None
+)
+
+
+class FileRefused(RecipeError):
+    """A :class:`File` parameter naming a file outside :func:`allowed_files`."""
+
+
+@contextlib.contextmanager
+def allowed_files(paths: Iterable[str | os.PathLike[str]] | None) -> Iterator[None]:
+    """Refuse, inside the block, a :class:`File` parameter naming a file not in ``paths``.
+
+    The viewer's server parses the recipes a page sends inside this block: a recipe
+    from the network may name only the files the server was started with. The check
+    comes before the file is looked at, so the refusal says nothing of other files.
+
+    Examples
+    --------
+    >>> from spherewarp.recipe import Recipe, RecipeError
+    >>> step = {"schottky": {"mask": "/etc/hostname", "targets": []}}
+    >>> with allowed_files([]):
+    ...     Recipe.from_dict({"spherewarp": 1, "steps": [step]})  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    spherewarp.recipe.params.FileRefused: steps[0].schottky.mask: '/etc/hostname' is not ...
+    """
+    allowed = None if paths is None else frozenset(Path(p).resolve() for p in paths)
+    token = _ALLOWED.set(allowed)
+    try:
+        yield
+    finally:
+        _ALLOWED.reset(token)
+
+
 class File(Spec):
     """A file name (a mask image), relative to the recipe's directory; read, never run."""
 
@@ -364,6 +402,13 @@ class File(Spec):
         base = _BASE.get()
         if not p.is_absolute() and base is not None:
             p = base / p
+        allowed = _ALLOWED.get()
+        if allowed is not None and p.resolve() not in allowed:
+            raise FileRefused(
+                path,
+                f"{value!r} is not a file this viewer was started with (a mask must be "
+                "named by its --recipe, or given with --mask)",
+            )
         if not p.is_file():
             raise RecipeError(path, f"expected an image file, got {value!r} (not found: {p})")
         return p

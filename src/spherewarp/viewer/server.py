@@ -6,15 +6,21 @@ Routes
     The bundled page (``static/``); nothing outside that folder.
 ``GET /image``
     The image the server was started with, as an 8-bit PNG (any input format).
+``GET /video``
+    A video the server was started with, as it is, with HTTP range requests
+    (``Range: bytes=A-B``: 206; outside the file: 416) so that the page's video
+    element can seek.
 ``GET /testpattern``
     The paper's test pattern (:func:`spherewarp.testpattern.make_test_pattern`,
     1024x512), for the page's overlay.
 ``GET /api/state``
-    ``{"recipe", "image": {"width", "height", "name"}, "stages", "glsl_header",
-    "table"}``: the recipe the server was started with, its map packed as
-    compiled stages (:func:`packed_stages`), and the stage table for the shader.
+    ``{"recipe", "image": {"width", "height", "name", "video"}, "rate", "stages",
+    "glsl_header", "table"}``: the recipe the server was started with, its map
+    packed as compiled stages (:func:`packed_stages`), the stage table for the
+    shader, and a video's frame rate (None for an image).
 ``POST /api/stages``
-    A recipe in, its packed stages out (400 with the recipe's error line):
+    A recipe in, its packed stages at ``?t=SECONDS`` (default 0) out (400 with
+    the recipe's error line):
     :func:`packed_stages`, expression maps as GLSL functions made from their
     syntax tree (:mod:`spherewarp.viewer.glsl`; no text of the recipe reaches
     the shader).
@@ -23,13 +29,18 @@ Routes
     little-endian int16, row-major.
 ``POST /api/render``
     A recipe in; renders it at full resolution with the Python renderer in a
-    thread; ``{"job": ID}`` out. ``GET /api/render/ID``: ``{"done", "progress",
+    thread (a video: its frame at ``?t=SECONDS``, default the first, and the
+    recipe at that time);
+    ``{"job": ID}`` out. ``GET /api/render/ID``: ``{"done", "progress",
     "error"}``; ``GET /api/render/ID/file``: the PNG, as a download.
 
 Security: the ``Host`` header must name the address the server listens on
 (DNS rebinding: 403); an API request with an ``Origin`` (or a cross-site
 ``Sec-Fetch-Site``) that is not the server's gets 403; a body over
-:data:`MAX_BODY` gets 413; a path with ``..`` (also URL-encoded) gets 404.
+:data:`MAX_BODY` gets 413; a path with ``..`` (also URL-encoded) gets 404; a
+posted recipe naming a file (a mask) other than those the server was started with
+gets 403 before the file is looked at
+(:func:`spherewarp.recipe.params.allowed_files`).
 Renders go to a temporary folder of the server's own, removed on close:
 nothing next to the inputs changes.
 
@@ -54,24 +65,42 @@ import tempfile
 import threading
 import urllib.parse
 import uuid
+from collections import OrderedDict
+from collections.abc import Sequence
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-__all__ = ["MAX_BODY", "STATIC_DIR", "ViewerServer", "packed_stages"]
+__all__ = [
+    "MAX_BODY",
+    "STATIC_DIR",
+    "LabelCache",
+    "ViewerServer",
+    "byte_range",
+    "packed_stages",
+    "video_frame",
+]
 
 #: the folder of the built page (``npm run build`` in ``viewer/`` writes it)
 STATIC_DIR = Path(__file__).with_name("static")
 #: the largest request body read, in bytes (a recipe is at most 1 MB)
 MAX_BODY = 1_000_000
+#: the MIME subtype of each video extension
+_VIDEO_TYPES = {
+    ".mp4": "mp4",
+    ".m4v": "mp4",
+    ".mov": "quicktime",
+    ".mkv": "x-matroska",
+    ".webm": "webm",
+}
 _LOOPBACK = {"127.0.0.1", "localhost", "::1"}
 _EMPTY = {"spherewarp": 1, "steps": []}
 
 
 def packed_stages(
-    recipe: Any, t: float = 0.0, labels: dict[str, Any] | None = None
+    recipe: Any, t: float = 0.0, labels: LabelCache | dict[str, Any] | None = None
 ) -> dict[str, Any]:
     """The recipe's map at time ``t`` as the stages the shader runs.
 
@@ -103,10 +132,150 @@ def packed_stages(
             "compiled stages; 'spherewarp render' renders it on the CPU)",
         }
     if labels is not None:
-        if len(labels) > 8:
-            labels.clear()
         labels.update(spec.labels)
     return spec.as_json()
+
+
+class LabelCache:
+    """The labels of masked Schottky stages by key: a small LRU under a lock (the
+    server's threads share it).
+
+    Parameters
+    ----------
+    size : int
+        How many entries it keeps (the least recently used goes first).
+
+    Examples
+    --------
+    >>> c = LabelCache(2)
+    >>> c.update({"a": 1, "b": 2}); c.get("a"); c.update({"c": 3})
+    1
+    >>> c.get("b") is None, c.get("a"), c.get("c"), len(c)
+    (True, 1, 3, 2)
+    """
+
+    def __init__(self, size: int = 8) -> None:
+        self.size = size
+        self._items: OrderedDict[str, Any] = OrderedDict()
+        self._lock = threading.Lock()
+
+    def update(self, items: dict[str, Any]) -> None:
+        """Add or refresh entries, dropping the least recently used beyond ``size``."""
+        with self._lock:
+            for key, value in items.items():
+                self._items[key] = value
+                self._items.move_to_end(key)
+            while len(self._items) > self.size:
+                self._items.popitem(last=False)
+
+    def get(self, key: str) -> Any | None:
+        """The entry for ``key`` (now the most recently used), or None."""
+        with self._lock:
+            found = self._items.get(key)
+            if found is not None:
+                self._items.move_to_end(key)
+            return found
+
+    def __len__(self) -> int:
+        with self._lock:
+            return len(self._items)
+
+
+def recipe_files(recipe: Any) -> list[Path]:
+    """The files a recipe's steps name (their :class:`~spherewarp.recipe.params.File`
+    parameters: masks), resolved.
+
+    Examples
+    --------
+    >>> from spherewarp.recipe import Recipe
+    >>> recipe_files(Recipe.from_dict({"spherewarp": 1, "steps": [{"power": {"n": 2}}]}))
+    []
+    """
+    from ..recipe.effects import EFFECTS
+    from ..recipe.params import File
+
+    out = []
+    for step in recipe.steps:
+        specs = EFFECTS[step.effect].params
+        for name, value in step.parsed.items():
+            if isinstance(specs.get(name), File) and value is not None:
+                out.append(Path(value).resolve())
+    return out
+
+
+def video_frame(path: str | os.PathLike[str], t: float = 0.0) -> np.ndarray:
+    """The frame of a video shown at time ``t`` (seconds): the last one that starts at or
+    before ``t`` (the first for a ``t`` before it), RGB uint8.
+
+    Parameters
+    ----------
+    path : path
+        The video.
+    t : float
+        Seconds from its start.
+
+    Returns
+    -------
+    numpy.ndarray
+        The frame, ``(height, width, 3)`` uint8.
+
+    Raises
+    ------
+    ImageFormatError
+        For a file that is not a video (one line).
+    """
+    import av
+
+    from ..errors import ImageFormatError
+    from ..io.video import probe
+
+    path = Path(path)
+    probe(path)  # a clear error for a file that is no video
+    found = None
+    with av.open(str(path)) as c:
+        if t > 0:
+            c.seek(int(t * 1_000_000), backward=True)  # a key frame at or before t
+        for frame in c.decode(video=0):
+            if found is not None and frame.time is not None and frame.time > t + 1e-6:
+                break
+            found = frame
+    if found is None:
+        raise ImageFormatError(f"cannot read '{path}': the video has no frames")
+    return found.to_ndarray(format="rgb24")
+
+
+def byte_range(header: str | None, size: int) -> tuple[int, int] | None:
+    """The first and last byte an HTTP ``Range`` header asks of a file of ``size`` bytes
+    (one range: ``bytes=A-B``, ``bytes=A-``, ``bytes=-N``); None for the whole file.
+
+    Raises ValueError for a range it cannot satisfy (416).
+
+    Examples
+    --------
+    >>> byte_range("bytes=0-99", 1000), byte_range("bytes=900-", 1000), byte_range("bytes=-9", 99)
+    ((0, 99), (900, 999), (90, 98))
+    >>> byte_range(None, 1000), byte_range("bytes=0-5000", 1000)
+    (None, (0, 999))
+    >>> byte_range("bytes=1000-", 1000)
+    Traceback (most recent call last):
+    ...
+    ValueError: range bytes=1000- is outside the file (1000 bytes)
+    """
+    if header is None:
+        return None
+    unit, _, spec = header.strip().partition("=")
+    first, dash, last = spec.strip().partition("-")
+    ok = unit.strip() == "bytes" and dash and "," not in spec
+    ok = ok and (first.isdigit() or not first) and (last.isdigit() or not last) and (first or last)
+    if not ok:
+        raise ValueError(f"range {header!r} is not one byte range")
+    if not first:
+        a, b = max(0, size - int(last)), size - 1
+    else:
+        a, b = int(first), min(size - 1, int(last)) if last else size - 1
+    if a >= size or b < a:
+        raise ValueError(f"range {header} is outside the file ({size} bytes)")
+    return a, b
 
 
 def _png_bytes(pixels: np.ndarray) -> bytes:
@@ -138,9 +307,16 @@ class ViewerServer:
     Parameters
     ----------
     image : path or None
-        The panorama to show (None: the bundled sample).
+        The panorama to show (None: the bundled sample), or a video (by its
+        extension, :data:`spherewarp.io.video.VIDEO_EXTENSIONS`): the page plays it
+        with the effect applied live.
     recipe : path or None
-        A recipe to start from (None: no steps).
+        A recipe to start from (None: no steps). Relative file names in the recipes
+        the page sends are read from its folder.
+    masks : sequence of paths
+        Mask images a recipe from the page may name, besides those the starting
+        recipe names: no other file is read for a recipe that comes over HTTP
+        (``schottky.mask``, ``droste.mask``: 403 otherwise).
     host : str
         The address to listen on (loopback by default).
     port : int
@@ -152,20 +328,36 @@ class ViewerServer:
         image: str | os.PathLike[str] | None,
         recipe: str | os.PathLike[str] | None,
         *,
+        masks: Sequence[str | os.PathLike[str]] = (),
         host: str = "127.0.0.1",
         port: int = 0,
     ) -> None:
         from ..io.images import read_image
+        from ..io.video import VIDEO_EXTENSIONS
         from ..recipe import Recipe
 
         if image is None:
             image = Path(__file__).parent.parent / "data" / "courtyard.png"
         self.image_path = Path(image)
-        self.image = read_image(self.image_path)
-        self.image_png = _png_bytes(self.image.pixels)
+        #: whether the input is a video: the page plays it (``/video``) as its texture
+        self.video = self.image_path.suffix.lower() in VIDEO_EXTENSIONS
+        # a video's first frame stands for it in /image and in "render full resolution"
+        self.image = video_frame(self.image_path) if self.video else read_image(self.image_path)
+        #: a video's frame rate (frames a second; the page times the recipe by its frames)
+        self.rate: float | None = None
+        if self.video:
+            from ..io.video import probe
+
+            rate = probe(self.image_path).rate
+            self.rate = float(rate) if rate else None
+        self.image_png = _png_bytes(self.pixels)
         self.recipe = Recipe.load(recipe) if recipe is not None else Recipe.from_dict(_EMPTY)
+        #: the folder relative file names in posted recipes are read from
+        self.base = self.recipe.base
+        #: the only files a posted recipe may name: the starting recipe's, and ``masks``
+        self.files = frozenset([*(Path(m).resolve() for m in masks), *recipe_files(self.recipe)])
         self.jobs: dict[str, _Job] = {}
-        self.labels: dict[str, Any] = {}  # masked Schottky labels by key (/api/labels/KEY)
+        self.labels = LabelCache()  # masked Schottky labels by key (/api/labels/KEY)
         self._pattern: bytes | None = None
         self.tmp = Path(tempfile.mkdtemp(prefix="spherewarp-view-"))
         self.httpd = ThreadingHTTPServer((host, port), _Handler)
@@ -192,6 +384,11 @@ class ViewerServer:
         """Block until interrupted."""
         self._thread.join()
 
+    @property
+    def pixels(self) -> np.ndarray:
+        """The image's pixels (a video's first frame)."""
+        return np.asarray(getattr(self.image, "pixels", self.image))
+
     def pattern_png(self) -> bytes:
         """The test pattern as PNG (made on first use)."""
         if self._pattern is None:
@@ -205,16 +402,19 @@ class ViewerServer:
         from ..render import stages
         from .glsl import EXPRESSION, glsl_header
 
-        h, w = self.image.pixels.shape[:2]
+        h, w = self.pixels.shape[:2]
         return {
             "recipe": self.recipe.to_dict(),
-            "image": {"width": w, "height": h, "name": self.image_path.name},
+            "image": {"width": w, "height": h, "name": self.image_path.name, "video": self.video},
+            "rate": self.rate,
             "stages": packed_stages(self.recipe, labels=self.labels),
             "glsl_header": glsl_header(),
             "table": json.loads(stages.as_json(extra=(EXPRESSION,))),
         }
 
-    def start_render(self, recipe: Any) -> str:
+    def start_render(self, recipe: Any, t: float | None = None) -> str:
+        """Render ``recipe`` at full resolution in a thread (a video: its frame at time
+        ``t``, default the first); returns the job's key."""
         job = _Job()
         key = uuid.uuid4().hex
         self.jobs[key] = job
@@ -226,10 +426,14 @@ class ViewerServer:
             from ..io.images import write_image
 
             try:
+                image = self.image
+                if self.video and t is not None:
+                    image = video_frame(self.image_path, t)
+                when = 0.0 if t is None else t  # a video's time is the recipe's
                 try:
-                    out = recipe.render(self.image, progress=progress)
+                    out = recipe.render(image, t=when, progress=progress)
                 except TypeError:  # a renderer without progress reporting
-                    out = recipe.render(self.image)
+                    out = recipe.render(image, t=when)
                 pixels = getattr(out, "pixels", out)
                 path = self.tmp / f"{self.image_path.stem}-{key[:8]}.png"
                 write_image(path, pixels, gpano=None)
@@ -284,6 +488,19 @@ class _Handler(BaseHTTPRequestHandler):
             raise _Error(404, "not found")
         return path
 
+    def _time(self) -> float | None:
+        """The ``t`` of the query (a video's time in seconds), if any."""
+        query = urllib.parse.parse_qs(urllib.parse.urlsplit(self.path).query)
+        if "t" not in query:
+            return None
+        try:
+            t = float(query["t"][0])
+        except ValueError:
+            t = float("nan")
+        if not (0 <= t < 1e7):
+            raise _Error(400, f"t: expected a time in seconds >= 0, got {query['t'][0]!r:.40}")
+        return t
+
     def _body(self) -> bytes:
         length = self.headers.get("Content-Length")
         if length is None:
@@ -301,10 +518,14 @@ class _Handler(BaseHTTPRequestHandler):
 
     def _recipe(self) -> Any:
         from ..recipe import Recipe, RecipeError
+        from ..recipe.params import FileRefused, allowed_files
 
         body = self._body()
         try:
-            return Recipe.loads(body)
+            with allowed_files(self.viewer.files):
+                return Recipe.loads(body, base=self.viewer.base)
+        except FileRefused as exc:  # refused before the file is looked at
+            raise _Error(403, f"recipe: {exc}") from None
         except RecipeError as exc:
             raise _Error(400, f"recipe: {exc}") from None
         except Exception as exc:  # a builder's own error on odd values
@@ -322,6 +543,38 @@ class _Handler(BaseHTTPRequestHandler):
         self.end_headers()
         if self.command != "HEAD":
             self.wfile.write(body)
+
+    def _send_file(self, path: Path, ctype: str) -> None:
+        """The file, or the one byte range asked for (206), in pieces: a video may be big."""
+        size = path.stat().st_size
+        try:
+            rng = byte_range(self.headers.get("Range"), size)
+        except ValueError as exc:
+            raise _Error(416, str(exc)) from None
+        a, b = rng if rng is not None else (0, size - 1)
+        self.send_response(206 if rng is not None else 200)
+        self.send_header("Content-Type", ctype)
+        self.send_header("Accept-Ranges", "bytes")
+        self.send_header("Content-Length", str(max(0, b - a + 1)))
+        if rng is not None:
+            self.send_header("Content-Range", f"bytes {a}-{b}/{size}")
+        self.send_header("X-Content-Type-Options", "nosniff")
+        self.send_header("Cache-Control", "no-store")
+        self.end_headers()
+        if self.command == "HEAD":
+            return
+        with open(path, "rb") as f:
+            f.seek(a)
+            left = b - a + 1
+            try:
+                while left > 0:
+                    chunk = f.read(min(left, 1 << 20))
+                    if not chunk:
+                        break
+                    self.wfile.write(chunk)
+                    left -= len(chunk)
+            except (BrokenPipeError, ConnectionResetError):  # the browser had enough
+                self.close_connection = True
 
     def _json(self, data: Any, status: int = 200) -> None:
         self._send(status, json.dumps(data).encode(), "application/json")
@@ -346,11 +599,12 @@ class _Handler(BaseHTTPRequestHandler):
             if path == "/api/stages":
                 recipe = self._recipe()
                 try:
-                    self._json({"stages": packed_stages(recipe, labels=self.viewer.labels)})
+                    t = self._time() or 0.0  # a video's time: an animated recipe's too
+                    self._json({"stages": packed_stages(recipe, t, labels=self.viewer.labels)})
                 except Exception as exc:
                     raise _Error(400, f"recipe: {exc}") from None
             elif path == "/api/render":
-                self._json({"job": self.viewer.start_render(self._recipe())})
+                self._json({"job": self.viewer.start_render(self._recipe(), self._time())})
             else:
                 raise _Error(404, "not found")
         except _Error as err:
@@ -362,6 +616,10 @@ class _Handler(BaseHTTPRequestHandler):
             return self._json(v.state())
         if path == "/image":
             return self._send(200, v.image_png, "image/png")
+        if path == "/video" and v.video:
+            return self._send_file(
+                v.image_path, "video/" + _VIDEO_TYPES.get(v.image_path.suffix.lower(), "mp4")
+            )
         if path == "/testpattern":
             return self._send(200, v.pattern_png(), "image/png")
         if path.startswith("/api/labels/"):
