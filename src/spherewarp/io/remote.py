@@ -71,6 +71,8 @@ def filesystem(url: str, fresh: bool = False) -> tuple[Any, str]:
         return url_to_fs(url, skip_instance_cache=fresh)
     except (ImportError, ValueError) as exc:
         raise InvalidValueError(f"{url}: no file system for this URL ({exc})") from None
+    except OSError as exc:  # the server refused or cannot be found
+        raise InvalidValueError(f"cannot reach '{url}': {exc.strerror or exc}") from None
 
 
 def exists(url: str) -> bool:

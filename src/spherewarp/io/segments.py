@@ -715,7 +715,7 @@ def run_segments(
     if dask is not None:
         client = dask_client(dask) if isinstance(dask, str) else dask
         work.make()
-        check_workers(client, plan.reads, [work.file("")[:-1] if work.url else work.file("")])
+        check_workers(client, plan.reads, [work.where if work.url else os.path.abspath(work.where)])
     ranges = [(g["start"], g["end"]) for g in plan.segments]
     manifest = _open_manifest(work, plan.source, plan.name, plan.identity, plan.segments, resume)
     todo = [

@@ -170,12 +170,12 @@ def _open_url(url: str) -> Any:
     """A container reading the URL ``url`` through fsspec (:mod:`spherewarp.io.remote`)."""
     import av
 
-    from .remote import exists, open_input
+    from .remote import open_input
 
-    if not exists(url):
-        raise ImageFormatError(f"cannot read '{url}': no such file")
     try:
-        return av.open(open_input(url))
+        return av.open(open_input(url))  # a connection of its own (a worker's threads)
+    except FileNotFoundError:
+        raise ImageFormatError(f"cannot read '{url}': no such file") from None
     except av.error.FFmpegError as exc:
         raise ImageFormatError(f"cannot read '{url}': not a video file ({exc.strerror})") from None
 
