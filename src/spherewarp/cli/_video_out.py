@@ -67,7 +67,14 @@ def is_video_output(output: Path | None) -> bool:
 
 class PathOrURL(click.Path):
     """A file's path (a ``Path``), or an fsspec URL kept as it is (``ftp://host/in.mp4``: a
-    ``str``; see :mod:`spherewarp.io.remote`)."""
+    ``str``; see :mod:`spherewarp.io.remote`).
+
+    Examples
+    --------
+    >>> kind = PathOrURL()
+    >>> kind.convert("ftp://host/in.mp4", None, None), kind.convert("a.mp4", None, None)
+    ('ftp://host/in.mp4', PosixPath('a.mp4'))
+    """
 
     def __init__(self) -> None:
         super().__init__(path_type=Path, dir_okay=False)
@@ -119,7 +126,8 @@ def segment_options(func: Callable) -> Callable:
             "--dask",
             metavar="ADDRESS",
             help="Render the segments on the workers of this Dask scheduler (tcp://host:8786); "
-            "the inputs and the output's folder must be at the same path on every worker.",
+            "the inputs and the output's folder must be at the same path (or URL) on every "
+            "worker.",
         ),
     ]
     for option in reversed(options):
@@ -133,7 +141,16 @@ SEGMENT_DEFAULTS = {"resume": False, "jobs": 1, "dask": None, "segment": None}
 
 def refuse_segment_options(options: dict[str, Any], why: str) -> None:
     """Refuse ``--resume``, ``--jobs``, ``--dask`` or ``--segment`` where no video is written
-    in segments (``why`` says what is written instead)."""
+    in segments (``why`` says what is written instead).
+
+    Examples
+    --------
+    >>> refuse_segment_options({"jobs": 1, "resume": False}, "images")  # the defaults: fine
+    >>> refuse_segment_options({"jobs": 2}, "images")
+    Traceback (most recent call last):
+    ...
+    click.exceptions.BadParameter: applies to a video output (images)
+    """
     for name, default in SEGMENT_DEFAULTS.items():
         if options.get(name, default) != default:
             raise click.BadParameter(f"applies to a video output ({why})", param_hint=f"--{name}")

@@ -24,9 +24,15 @@ options is refused.
 Segments are rendered in this process (``jobs=1``), on a local process pool
 (``jobs=N``: each process renders with its share of the cores), or on the workers of
 a Dask distributed scheduler (``dask="tcp://host:8786"``; ``pip install
-"spherewarp[dask]"``), which read the input and write the segments by path: the input
-and ``OUT.parts/`` must be reachable at the same path from every worker (checked
-before any work). Dask reruns a dead worker's segment elsewhere.
+"spherewarp[dask]"``), which read the input and write the segments by path or fsspec
+URL (:mod:`spherewarp.io.remote`): the input and ``OUT.parts/`` must be reachable by
+the same name from every worker (checked before any work). Dask reruns a dead
+worker's segment elsewhere.
+
+:func:`run_segments` is the runner itself, for any render cut into frame ranges
+(:class:`Segmented`): :func:`render_segmented` runs a video through it, and
+``spherewarp animate ... -o OUT.mp4`` an animation of a still
+(:mod:`spherewarp.cli._video_out`).
 
 Examples
 --------
