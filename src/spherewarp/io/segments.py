@@ -564,6 +564,10 @@ def render_segmented(
 
     Parameters
     ----------
+    input, output : path or str
+        The video to read and the file to write: paths, or fsspec URLs
+        (``ftp://host/in.mp4``; :mod:`spherewarp.io.remote`), whose 360° metadata is not
+        read (pass ``stereo`` for a stereo input).
     identity : str
         Everything that decides the pixels, as text (the effect and its options, the
         recipe's contents, the encoder options): a manifest made with another is refused
