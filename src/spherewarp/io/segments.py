@@ -8,8 +8,10 @@ starts on a keyframe), into a work directory beside the output, ``OUT.parts/``:
   of everything that decides the pixels (the recipe or effect and the encoder
   options: ``identity``), the segments' boundaries (frame indices and presentation
   times) and the segments done;
-* each segment is written atomically (``seg-00003.mp4``), so a half-written one is
-  never joined, and is added to the manifest once whole;
+* each segment is written atomically (``seg-00003-1a2b3c4d.mp4``: its index and the
+  first digits of ``identity``'s hash), so a half-written one is never joined, nor one
+  that a task of an earlier render (of a client killed with other options) writes late,
+  and is added to the manifest once whole;
 * when all are done they are joined without re-encoding (PyAV remuxes their
   packets), the input's audio (and other copyable streams) is muxed back with its
   packets as they are, the spherical metadata is written, the output is moved into
@@ -322,13 +324,18 @@ class _Manifest:
             return False
         return self.folder.size(entry["file"]) == entry["bytes"]
 
+    def part(self, index: int) -> str:
+        """The file name of segment ``index`` of this render."""
+        return _part_name(index, self.data["options"])
+
     def mark(self, index: int, size: int) -> None:
-        self.data["done"][str(index)] = {"file": _part_name(index), "bytes": size}
+        self.data["done"][str(index)] = {"file": self.part(index), "bytes": size}
         self.save()
 
 
-def _part_name(index: int) -> str:
-    return f"seg-{index:05d}.{_PART_FORMAT}"
+def _part_name(index: int, options: str = "") -> str:
+    tag = f"-{options[:8]}" if options else ""
+    return f"seg-{index:05d}{tag}.{_PART_FORMAT}"
 
 
 def _open_manifest(
@@ -729,7 +736,7 @@ def run_segments(
     ranges = [(g["start"], g["end"]) for g in plan.segments]
     manifest = _open_manifest(work, plan.source, plan.name, plan.identity, plan.segments, resume)
     todo = [
-        plan.job(i, work.file(_part_name(i))) for i in range(len(ranges)) if not manifest.done(i)
+        plan.job(i, work.file(manifest.part(i))) for i in range(len(ranges)) if not manifest.done(i)
     ]
     counter = _Frames(ranges[-1][1] if ranges else 0, progress)
     counter.whole = sum(b - a for i, (a, b) in enumerate(ranges) if manifest.done(i))
@@ -748,7 +755,7 @@ def run_segments(
             _run_local(todo, jobs, finished, counter.frame, plan.render)
         if plan.after is not None:
             plan.after(client is not None or jobs > 1)
-        parts = [work.file(_part_name(i)) for i in range(len(ranges))]
+        parts = [work.file(manifest.part(i)) for i in range(len(ranges))]
         _write_output(output, overwrite, lambda tmp: plan.join(parts, tmp))
         resume_hint = None
     finally:
