@@ -191,8 +191,9 @@ def test_a_url_without_fsspec_says_how_to_install(clip, workdir):
     blocker.mkdir()
     (blocker / "fsspec.py").write_text("raise ImportError('hidden for the test')\n")
     env = {**os.environ, "PYTHONPATH": f"{blocker}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"}
-    p = start("video", "ftp://127.0.0.1:1/in.mp4", "-o", "u.mp4", *ROTATE, env=env)
-    _, err = p.communicate(timeout=120)
-    assert p.returncode == 2 and err.count("\n") == 1, err
-    assert 'pip install "spherewarp[dask]"' in err and "ftp://127.0.0.1:1/in.mp4" in err
-    assert not Path("u.mp4").exists()
+    for more in ((), ("--dask", "tcp://127.0.0.1:1")):
+        p = start("video", "ftp://127.0.0.1:1/in.mp4", "-o", "u.mp4", *more, *ROTATE, env=env)
+        _, err = p.communicate(timeout=120)
+        assert p.returncode == 2 and err.count("\n") == 1, err
+        assert 'pip install "spherewarp[dask]"' in err and "ftp://127.0.0.1:1/in.mp4" in err
+        assert not Path("u.mp4").exists()
