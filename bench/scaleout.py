@@ -1,12 +1,15 @@
 """Segments a second: one local process, ``--jobs 2``, and a Dask cluster of 1 and 2 workers.
 
     python bench/scaleout.py [--size 1024x512] [--frames 96] [--segment 0.5] [--no-dask]
+                             [--animate]
 
 Makes a clip (the bundled panorama turning, H.264), then in one run times
 ``spherewarp video IN -o OUT --segment S rotate --yaw 30`` as a separate process with
 ``--jobs 1``, ``--jobs 2``, and ``--dask`` on a real ``dask scheduler`` with one, then two,
 single-threaded ``dask worker`` processes on 127.0.0.1 (needs ``pip install
-"spherewarp[dask]"``). Prints segments a second and each one's ratio to ``--jobs 1``. The
+"spherewarp[dask]"``). ``--animate`` times ``spherewarp animate spin.json STILL --fps 24
+-o OUT.mp4 --segment S`` instead (a spin of the bundled panorama at ``--size``, ``--frames``
+frames). Prints segments a second and each one's ratio to ``--jobs 1``. The
 processes of a pool and the Dask workers each warp with their share of the cores (numba
 threads), so the figures show what splitting costs or gains on this machine, start-up
 (spawn, imports, kernel loading) included.
@@ -44,10 +47,31 @@ def make_clip(path: Path, w: int, h: int, frames: int) -> None:
         c.mux(v.encode(None))
 
 
-def render(clip: Path, out: Path, segment: float, extra: list[str]) -> float:
-    args = [sys.executable, "-m", "spherewarp", "video", str(clip), "-o", str(out),
-            "--overwrite", "--quiet", "--segment", str(segment), "--preset", "ultrafast",
-            *extra, "rotate", "--yaw", "30"]  # fmt: skip
+def make_still(d: Path, w: int, h: int, frames: int) -> tuple[Path, Path]:
+    """A panorama at ``w x h`` and a recipe spinning it once in ``frames`` frames at 24 fps."""
+    import json
+
+    from PIL import Image
+
+    from spherewarp.demo import sample_path
+
+    with Image.open(sample_path("interior.png")) as im:
+        im.convert("RGB").resize((w, h), Image.BILINEAR).save(d / "still.png")
+    spin = {"keyframes": [[0, 0], [frames / 24, 360]]}
+    data = {"spherewarp": 1, "duration": frames / 24, "loop": True,
+            "steps": [{"rotate": {"yaw": spin}}]}  # fmt: skip
+    (d / "spin.json").write_text(json.dumps(data))
+    return d / "spin.json", d / "still.png"
+
+
+def render(clip: Path | tuple[Path, Path], out: Path, segment: float, extra: list[str]) -> float:
+    common = ["-o", str(out), "--overwrite", "--quiet", "--segment", str(segment), "--preset",
+              "ultrafast", *extra]  # fmt: skip
+    if isinstance(clip, tuple):  # animate: (recipe, still)
+        what = ["animate", str(clip[0]), str(clip[1]), "--fps", "24", *common]
+    else:
+        what = ["video", str(clip), *common, "rotate", "--yaw", "30"]
+    args = [sys.executable, "-m", "spherewarp", *what]
     t = time.perf_counter()
     subprocess.run(args, check=True)
     return time.perf_counter() - t
@@ -59,13 +83,17 @@ def main() -> None:
     ap.add_argument("--frames", type=int, default=96)
     ap.add_argument("--segment", type=float, default=0.5)
     ap.add_argument("--no-dask", action="store_true")
+    ap.add_argument("--animate", action="store_true", help="time animate, not video")
     a = ap.parse_args()
     w, h = (int(x) for x in a.size.split("x"))
     segments = -(-a.frames // max(1, round(a.segment * 24)))
     with tempfile.TemporaryDirectory() as d:
         d = Path(d)
-        clip = d / "in.mp4"
-        make_clip(clip, w, h, a.frames)
+        if a.animate:
+            clip: Path | tuple[Path, Path] = make_still(d, w, h, a.frames)
+        else:
+            clip = d / "in.mp4"
+            make_clip(clip, w, h, a.frames)
         render(clip, d / "warm.mp4", a.segment, [])  # load the kernels once
         rows: list[tuple[str, float]] = []
         for jobs in (1, 2):
@@ -81,8 +109,8 @@ def main() -> None:
                     c.close()
                 rows.append((f"--dask, {n} worker{'s' * (n > 1)}", s))
     base = rows[0][1]
-    print(f"{w}x{h}, {a.frames} frames, {segments} segments of {a.segment:g} s, "
-          f"{os.cpu_count()} cores")  # fmt: skip
+    print(f"{'animate' if a.animate else 'video'} {w}x{h}, {a.frames} frames, {segments} "
+          f"segments of {a.segment:g} s, {os.cpu_count()} cores")  # fmt: skip
     print("| run | seconds | segments/s | ratio to --jobs 1 |")
     print("|---|---|---|---|")
     for name, s in rows:

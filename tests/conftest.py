@@ -131,3 +131,15 @@ def workdir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     """A temporary directory that is also the current directory (for CLI tests)."""
     monkeypatch.chdir(tmp_path)
     return tmp_path
+
+
+@pytest.fixture(scope="session")
+def ftp(tmp_path_factory):
+    """A real FTP server on 127.0.0.1 (tests/ftpserver.py): a remote file system for URLs."""
+    pytest.importorskip("fsspec")
+    pytest.importorskip("pyftpdlib")
+    from ftpserver import FTPServer
+
+    server = FTPServer(tmp_path_factory.mktemp("ftp"))
+    yield server
+    server.close()

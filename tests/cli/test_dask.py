@@ -1,15 +1,29 @@
 """``--dask``: a real ``dask scheduler`` and two ``dask worker`` processes on 127.0.0.1 render
-a video's segments (one worker killed mid-render) and a batch of stills, as a local run does."""
+a video's segments (one worker killed mid-render; the client killed and resumed), an
+animation's and a batch of stills, as a local run does."""
 
 from __future__ import annotations
 
 import hashlib
+import json
+import signal
 from pathlib import Path
 
 import numpy as np
 import pytest
 from _cli import ok, run
-from test_video_segments import ROTATE, SEG, frames, packets, psnr, start, times, wait_for_segments
+from test_video_segments import (
+    ROTATE,
+    SEG,
+    digest,
+    frames,
+    packets,
+    psnr,
+    start,
+    stop_midway,
+    times,
+    wait_for_segments,
+)
 
 from spherewarp.io import write_image
 from videoclip import make_clip
@@ -57,6 +71,36 @@ def test_dask_refuses_a_path_workers_cannot_read(cluster):
         client.close()
 
 
+def test_dask_refuses_a_url_workers_cannot_reach(cluster):
+    from spherewarp.errors import InvalidValueError
+    from spherewarp.io.segments import check_workers, dask_client
+
+    client = dask_client(cluster.address)
+    try:
+        with pytest.raises(InvalidValueError, match=r"worker tcp://127\.0\.0\.1:\d+ cannot reach "
+                           "'ftp://127.0.0.1:1/in.mp4'"):  # fmt: skip
+            check_workers(client, ["ftp://127.0.0.1:1/in.mp4"])
+    finally:
+        client.close()
+
+
+def test_dask_reads_and_writes_urls(clip, cluster, ftp):
+    import shutil
+
+    shutil.copy(clip, ftp.root / "in.mp4")
+    ok(None, "video", clip.name, "-o", "local.mp4", "--segment", SEG, "--quiet", *ROTATE)
+    code, _, err = run(None, "video", f"{ftp.url}/in.mp4", "-o", f"{ftp.url}/o/dask.mp4",
+                       "--segment", SEG, "--quiet", "--dask", cluster.address, *ROTATE)  # fmt: skip
+    assert code == 0 and err == "", err
+    got = ftp.root / "o" / "dask.mp4"
+    assert sorted(p.name for p in got.parent.iterdir()) == ["dask.mp4"]  # no parts, no temp
+    assert times(got) == times("local.mp4")
+    assert packets(got, "audio") == packets(clip, "audio")
+    a, b = frames(got), frames("local.mp4")
+    assert len(a) == len(b) == 48
+    assert min(psnr(x, y) for x, y in zip(a, b, strict=True)) >= 45
+
+
 def test_a_batch_of_stills_on_dask_equals_the_local_files(workdir, cluster):
     rng = np.random.default_rng(7)
     names = []
@@ -74,6 +118,32 @@ def test_a_batch_of_stills_on_dask_equals_the_local_files(workdir, cluster):
         a = (workdir / "local" / n.replace(".png", "-render.png")).read_bytes()
         b = (workdir / "remote" / n.replace(".png", "-render.png")).read_bytes()
         assert hashlib.sha256(a).digest() == hashlib.sha256(b).digest(), n
+
+
+def test_animate_on_dask_gives_the_same_file(workdir, cluster):
+    from test_animate_segments import SPIN
+
+    from videoclip import panorama
+
+    write_image(workdir / "pano.png", panorama())
+    (workdir / "spin.json").write_text(json.dumps({"spherewarp": 1, **SPIN}))
+    args = ("animate", "spin.json", "pano.png", "--fps", "24", "--segment", SEG, "-q")
+    ok(None, *args, "-o", "local.mp4")
+    code, _, err = run(None, *args, "-o", "dask.mp4", "--dask", cluster.address)
+    assert code == 0 and err == "", err
+    assert digest("dask.mp4") == digest("local.mp4")
+    assert not Path("dask.mp4.parts").exists()
+
+
+def test_resume_after_the_client_is_killed(clip, cluster):
+    args = ("video", clip.name, "--segment", SEG, "--dask", cluster.address)
+    ok(None, *args, "-o", "whole.mp4", "-q", *ROTATE)
+    done = stop_midway((*args, "-q", *ROTATE), "cut.mp4", signal.SIGKILL, after=1)  # in flight
+    code, _, err = run(None, *args, "-o", "cut.mp4", "--resume", "--progress", "json", *ROTATE)
+    assert code == 0, err
+    assert json.loads(err.splitlines()[0])["frames"] >= 6 * len(done)  # not rendered again
+    assert digest("cut.mp4") == digest("whole.mp4")
+    assert not Path("cut.mp4.parts").exists()
 
 
 def test_dask_survives_a_killed_worker(clip, cluster):  # last: it leaves one worker

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _cli import ok, run
+from _cli import fails, ok, run
 
 from videoclip import make_clip
 
@@ -88,20 +88,28 @@ def test_segments_keep_times_frames_and_audio(clip):
         assert psnr(a, b) >= 35  # within codec error (other keyframes)
 
 
-@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGKILL])
-def test_resume_after_a_kill_gives_the_same_file(clip, sig):
-    ok(None, "video", clip.name, "-o", "whole.mp4", "--segment", SEG, "--quiet", *ROTATE)
-    p = start("video", clip.name, "-o", "cut.mp4", "--segment", SEG, "--quiet", *ROTATE)
-    wait_for_segments(Path("cut.mp4.parts"), 2, p)
+def stop_midway(args, out: str, sig, after: int = 2, segments: int = 8) -> dict:
+    """Start ``spherewarp ARGS -o OUT``, send ``sig`` once ``after`` segments are done, check
+    that no output (nor a temporary file) is left and that SIGINT says to resume in one line;
+    return the manifest's finished segments."""
+    p = start(*args, "-o", out)
+    wait_for_segments(Path(f"{out}.parts"), after, p)
     p.send_signal(sig)
     _, err = p.communicate(timeout=60)
-    assert not Path("cut.mp4").exists()  # no output, not even a broken one
+    assert not Path(out).exists()  # no output, not even a broken one
     assert not [f for f in os.listdir() if ".spherewarp-" in f]
     if sig == signal.SIGINT:
         assert p.returncode == 130
         assert err.count("\n") == 1 and "--resume" in err, err
-    done = json.loads(Path("cut.mp4.parts/manifest.json").read_text())["done"]
-    assert 2 <= len(done) < 8
+    done = json.loads(Path(f"{out}.parts/manifest.json").read_text())["done"]
+    assert after <= len(done) < segments
+    return done
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGKILL])
+def test_resume_after_a_kill_gives_the_same_file(clip, sig):
+    ok(None, "video", clip.name, "-o", "whole.mp4", "--segment", SEG, "--quiet", *ROTATE)
+    done = stop_midway(("video", clip.name, "--segment", SEG, "--quiet", *ROTATE), "cut.mp4", sig)
     code, _, err = run(None, "video", clip.name, "-o", "cut.mp4", "--segment", SEG, "--resume",
                        "--progress", "json", *ROTATE)  # fmt: skip
     assert code == 0, err
@@ -162,3 +170,30 @@ def test_dask_without_dask_says_how_to_install(clip, workdir):
     assert p.returncode == 2 and err.count("\n") == 1, err
     assert 'pip install "spherewarp[dask]"' in err
     assert not Path("d.mp4").exists()
+
+
+def test_urls_with_jobs_give_the_local_file(clip, ftp):
+    import shutil
+
+    shutil.copy(clip, ftp.root / "url-in.mp4")
+    ok(None, "video", clip.name, "-o", "local.mp4", "--segment", SEG, "--quiet", *ROTATE)
+    out = f"{ftp.url}/out/url-out.mp4"
+    ok(None, "video", f"{ftp.url}/url-in.mp4", "-o", out, "--segment", SEG, "--jobs", "2",
+       "--quiet", *ROTATE)  # fmt: skip
+    assert digest(ftp.root / "out" / "url-out.mp4") == digest("local.mp4")
+    assert sorted(p.name for p in (ftp.root / "out").iterdir()) == ["url-out.mp4"]  # no parts
+    err = fails(None, "video", f"{ftp.url}/url-in.mp4", "-o", out, "--quiet", *ROTATE)
+    assert "exists; pass --overwrite" in err
+
+
+def test_a_url_without_fsspec_says_how_to_install(clip, workdir):
+    blocker = workdir / "nofsspec"
+    blocker.mkdir()
+    (blocker / "fsspec.py").write_text("raise ImportError('hidden for the test')\n")
+    env = {**os.environ, "PYTHONPATH": f"{blocker}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"}
+    for more in ((), ("--dask", "tcp://127.0.0.1:1")):
+        p = start("video", "ftp://127.0.0.1:1/in.mp4", "-o", "u.mp4", *more, *ROTATE, env=env)
+        _, err = p.communicate(timeout=120)
+        assert p.returncode == 2 and err.count("\n") == 1, err
+        assert 'pip install "spherewarp[dask]"' in err and "ftp://127.0.0.1:1/in.mp4" in err
+        assert not Path("u.mp4").exists()

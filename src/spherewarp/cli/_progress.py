@@ -19,7 +19,7 @@ import sys
 import time
 from typing import Any, TextIO
 
-__all__ = ["DELAY", "ProgressBar", "close_all"]
+__all__ = ["DELAY", "FrameBar", "JsonProgress", "ProgressBar", "close_all"]
 
 
 #: seconds a render runs before its bar appears (``SPHEREWARP_PROGRESS_DELAY`` in the
@@ -163,3 +163,34 @@ class JsonProgress:
 
     def close(self) -> None:
         """Nothing to clear (the lines stay)."""
+
+
+class FrameBar:
+    """A ``progress(done, total)`` callback: frames done, frames a second and the time left,
+    on a terminal (``enabled``), with ``tqdm``.
+
+    Examples
+    --------
+    >>> bar = FrameBar(enabled=False)
+    >>> bar(1, 10); bar.close()
+    """
+
+    def __init__(self, enabled: bool) -> None:
+        self.enabled = enabled
+        self._bar: Any = None
+
+    def __call__(self, done: int, total: int) -> None:
+        if not self.enabled:
+            return
+        if self._bar is None:
+            from tqdm import tqdm
+
+            self._bar = tqdm(total=total or None, unit="frame", file=sys.stderr, leave=False)
+        if total and self._bar.total != total:
+            self._bar.total = total
+        self._bar.update(done - self._bar.n)
+
+    def close(self) -> None:
+        if self._bar is not None:
+            self._bar.close()
+            self._bar = None

@@ -8,13 +8,26 @@ Matroska's), another view none.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable
+from dataclasses import dataclass
+from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
 import click
 
-__all__ = ["encoding_options", "is_video_output", "animate_video"]
+__all__ = [
+    "encoding_options",
+    "is_video_output",
+    "animate_video",
+    "segment_options",
+    "segment_progress",
+    "refuse_segment_options",
+    "FramesJob",
+    "PathOrURL",
+    "render_frames",
+]
 
 
 def encoding_options(func: Callable) -> Callable:
@@ -52,37 +65,246 @@ def is_video_output(output: Path | None) -> bool:
     return output is not None and output.suffix.lower() in VIDEO_EXTENSIONS
 
 
+class PathOrURL(click.Path):
+    """A file's path (a ``Path``), or an fsspec URL kept as it is (``ftp://host/in.mp4``: a
+    ``str``; see :mod:`spherewarp.io.remote`).
+
+    Examples
+    --------
+    >>> kind = PathOrURL()
+    >>> kind.convert("ftp://host/in.mp4", None, None), kind.convert("a.mp4", None, None)
+    ('ftp://host/in.mp4', PosixPath('a.mp4'))
+    """
+
+    def __init__(self) -> None:
+        super().__init__(path_type=Path, dir_okay=False)
+
+    def convert(self, value: Any, param: Any, ctx: Any) -> Any:
+        from ..io.remote import is_url
+
+        if is_url(value):
+            return value
+        return super().convert(value, param, ctx)
+
+
+def segment_options(func: Callable) -> Callable:
+    """``--progress``, ``--segment``, ``--resume``, ``--jobs`` and ``--dask``: a video output
+    rendered in segments (:func:`spherewarp.io.segments.run_segments`), as ``video`` and
+    ``animate`` share them."""
+    options = [
+        click.option(
+            "--progress",
+            type=click.Choice(["bar", "json", "none"], case_sensitive=False),
+            default="bar",
+            show_default=True,
+            help="bar: a progress bar on a terminal; json: one JSON object a line on stderr "
+            "(frames, total, fps, eta), for scripts; none.",
+        ),
+        click.option(
+            "--segment",
+            type=click.FloatRange(min=0, min_open=True),
+            default=None,
+            metavar="S",
+            help="Seconds of video in each segment (default 10): a video is rendered in "
+            "segments, each starting on a keyframe, in OUT.parts/ beside the output, then "
+            "joined.",
+        ),
+        click.option(
+            "--resume",
+            is_flag=True,
+            help="Continue an interrupted render from the finished segments in OUT.parts/.",
+        ),
+        click.option(
+            "-j",
+            "--jobs",
+            type=click.IntRange(min=1),
+            default=1,
+            show_default=True,
+            help="Segments rendered at once by local processes (each with its share of the cores).",
+        ),
+        click.option(
+            "--dask",
+            metavar="ADDRESS",
+            help="Render the segments on the workers of this Dask scheduler (tcp://host:8786); "
+            "the inputs and the output's folder must be at the same path (or URL) on every "
+            "worker.",
+        ),
+    ]
+    for option in reversed(options):
+        func = option(func)
+    return func
+
+
+#: the options of :func:`segment_options`, with the values that mean "not given"
+SEGMENT_DEFAULTS = {"resume": False, "jobs": 1, "dask": None, "segment": None}
+
+
+def refuse_segment_options(options: dict[str, Any], why: str) -> None:
+    """Refuse ``--resume``, ``--jobs``, ``--dask`` or ``--segment`` where no video is written
+    in segments (``why`` says what is written instead).
+
+    Examples
+    --------
+    >>> refuse_segment_options({"jobs": 1, "resume": False}, "images")  # the defaults: fine
+    >>> refuse_segment_options({"jobs": 2}, "images")
+    Traceback (most recent call last):
+    ...
+    click.exceptions.BadParameter: applies to a video output (images)
+    """
+    for name, default in SEGMENT_DEFAULTS.items():
+        if options.get(name, default) != default:
+            raise click.BadParameter(f"applies to a video output ({why})", param_hint=f"--{name}")
+
+
+def segment_progress(quiet: bool, mode: str) -> Any:
+    """The ``progress(done, total)`` callback of ``--progress MODE`` (none with ``--quiet``)."""
+    import sys
+
+    mode = "none" if quiet else mode.lower()
+    if mode == "json":
+        from ._progress import JsonProgress
+
+        return JsonProgress()
+    from ._progress import FrameBar
+
+    return FrameBar(enabled=mode == "bar" and sys.stderr.isatty())
+
+
+@dataclass
+class FramesJob:
+    """One segment of ``animate ... -o OUT.mp4``: frames ``first ...`` of a timed recipe on a
+    still, encoded into ``part`` (picklable: sent to a process pool or a Dask worker)."""
+
+    index: int
+    part: str
+    first: int
+    times: list[float]
+    inputs: list[str]
+    recipe: Any
+    render: Any
+    size: tuple[int, int]
+    rate: Fraction
+    encoding: dict[str, Any]
+    in_pix: str
+    threads: int | None = None
+
+    @property
+    def frames(self) -> int:
+        return len(self.times)
+
+
+def render_frames(
+    job: FramesJob, progress: Callable[[int], None] | None = None
+) -> tuple[int, int, int]:
+    """Render one :class:`FramesJob` to ``job.part`` atomically; return ``(index, frames,
+    bytes)`` (a :func:`spherewarp.io.segments.run_segments` ``render``).
+
+    Frame ``job.first + k`` shows the recipe at ``job.times[k]``, at presentation time
+    ``(job.first + k) / job.rate``; ``progress(k + 1)`` after each.
+    """
+    from ..io.segments import _dask_threads, _set_threads, writing_part
+    from ..io.videowriter import video_writer
+    from ._files import new_job
+    from .recipe_cmds import _load_all
+
+    _set_threads(job.threads if job.threads is not None else _dask_threads())
+    new_job()
+    srcs = _load_all(tuple(Path(p) for p in job.inputs), job.render)
+    tb = 1 / job.rate
+    with writing_part(job.part) as tmp:
+        with video_writer(
+            tmp, job.size, job.rate, in_pix=job.in_pix, overwrite=True, spherical=None,
+            **job.encoding,
+        ) as writer:  # fmt: skip
+            for k, t in enumerate(job.times):
+                pixels = animate_frame(srcs, job.recipe.at(t), job.render)
+                writer.write(pixels, pts=job.first + k, time_base=tb)
+                if progress is not None:
+                    progress(k + 1)
+        size = os.path.getsize(tmp)
+    return job.index, len(job.times), size
+
+
+def animate_frame(srcs: Any, frame: Any, render: Any) -> Any:
+    """The pixels of one frame of ``animate ... -o OUT.mp4`` (HDR tone-mapped as for a 16-bit
+    PNG)."""
+    from ._common import convert_for_output
+    from .recipe_cmds import _render_frame
+
+    out, _ = _render_frame(srcs, frame, render, "animate")
+    if out.dtype.kind == "f":
+        out = convert_for_output(out, Path("frame.png"), render)
+    return out
+
+
 def animate_video(
-    src: Any,
+    inputs: tuple[Path, ...],
+    srcs: Any,
     render: Any,
     recipe: Any,
     times: list[float],
     fps: float,
     encoding: dict[str, Any],
-    render_frame: Callable[[Any, Any, Any], Any],
+    segments: dict[str, Any],
 ) -> int:
-    """Render ``recipe`` at ``times`` on the still ``src`` and encode the frames into
-    ``render.output`` at ``fps`` (``encoding``: codec, crf, preset, pix_fmt); return the frames
-    written. ``render_frame(src, frame, render)`` gives one frame's pixels."""
+    """Render ``recipe`` at ``times`` on the stills ``inputs`` (read: ``srcs``) and encode the
+    frames into ``render.output`` at ``fps`` (``encoding``: codec, crf, preset, pix_fmt), in
+    segments (``segments``: :func:`segment_options`' values, and ``quiet``); return the
+    frames written."""
+    import hashlib
+    import json
+    from dataclasses import asdict, replace
+
     import numpy as np
 
-    from ..io.videowriter import EQUIRECT, frame_rate, video_writer
+    from ..io.segments import DEFAULT_SEGMENT_SECONDS, Segmented, join, run_segments
+    from ..io.segments import _input_identity as identity_of
+    from ..io.spherical import write_spherical
+    from ..io.video import muxer
+    from ..io.videowriter import EQUIRECT, check_writer, frame_rate
 
     output = render.output
-    first = render_frame(src, recipe.at(times[0]), render)
-    deep = first.dtype != np.uint8
+    rate = frame_rate(fps)
+    first = animate_frame(srcs, recipe.at(times[0]), render)  # the frame's size and depth
+    in_pix = "yuv420p" if first.dtype == np.uint8 else "yuv420p10le"
+    size = first.shape[:2]
+    enc, out_pix, _, _ = check_writer(output, size, rate, in_pix=in_pix, **encoding)
+    encoding = {**encoding, "codec": enc.name, "pix_fmt": out_pix}  # parts are MP4 files
+    quiet = replace(render, quiet=True)  # workers draw no bars
+    step = max(1, round((segments["segment"] or DEFAULT_SEGMENT_SECONDS) * float(rate)))
+    ranges = [(a, min(a + step, len(times))) for a in range(0, len(times), step)]
+    paths = [os.path.abspath(p) for p in inputs]
+
+    def job(i: int, part: str) -> FramesJob:
+        a, b = ranges[i]
+        return FramesJob(
+            index=i, part=part, first=a, times=times[a:b], inputs=paths, recipe=recipe,
+            render=quiet, size=size, rate=rate, encoding=encoding, in_pix=in_pix,
+        )  # fmt: skip
+
     panorama = render.projection in (None, "equirect")
-    with video_writer(
-        output,
-        first.shape[:2],
-        frame_rate(fps),
-        in_pix="yuv420p10le" if deep else "yuv420p",
-        overwrite=render.overwrite,
-        spherical=EQUIRECT if panorama else None,
-        **encoding,
-    ) as writer:
-        writer.write(first)
-        for t in times[1:]:
-            writer.write(render_frame(src, recipe.at(t), render))
+
+    def join_parts(parts: list[Path], tmp: Path) -> None:
+        join(parts, None, tmp, muxer(output))
+        write_spherical(tmp, EQUIRECT if panorama else None)
+
+    pixels = {k: v for k, v in asdict(quiet).items() if k not in ("output", "overwrite")}
+    identity = json.dumps(
+        {"recipe": hashlib.sha256(recipe.dumps().encode()).hexdigest(), "times": times,
+         "fps": str(rate), "render": pixels, "encoding": encoding, "in_pix": in_pix},
+        sort_keys=True, default=str,
+    )  # fmt: skip
+    plan = Segmented(
+        output=Path(output), source=[identity_of(Path(p)) for p in paths],
+        name=", ".join(str(p) for p in inputs), identity=identity,
+        segments=[{"index": i, "start": a, "end": b} for i, (a, b) in enumerate(ranges)],
+        job=job, render=render_frames, join=join_parts, reads=paths,
+    )  # fmt: skip
+    bar = segment_progress(render.quiet, segments["progress"])
+    try:
+        run_segments(plan, resume=segments["resume"], jobs=segments["jobs"],
+                     dask=segments["dask"], overwrite=render.overwrite, progress=bar)  # fmt: skip
+    finally:
+        bar.close()
     click.echo(f"wrote {output} ({len(times)} frames at {fps:g} fps)")
     return len(times)

@@ -17,7 +17,7 @@ from typing import Any
 import click
 
 from ._common import RealType, RenderOptions, example, render_options
-from ._video_out import encoding_options, is_video_output
+from ._video_out import encoding_options, is_video_output, refuse_segment_options, segment_options
 
 __all__ = [
     "render",
@@ -474,6 +474,7 @@ MAX_FRAMES = 100000
     help="Seconds to render (default: the recipe's duration).",
 )
 @encoding_options
+@segment_options
 @render_options
 def animate(
     inputs: tuple[Path, ...],
@@ -481,6 +482,11 @@ def animate(
     recipe: Path,
     fps: float,
     duration: float | None,
+    progress: str,
+    segment: float | None,
+    resume: bool,
+    jobs: int,
+    dask: str | None,
     **encoding: Any,
 ) -> None:
     """Render the frames of a timed recipe (R.json) on INPUT, as numbered images.
@@ -493,8 +499,9 @@ def animate(
     WebP, by the extension (default: INPUT's). -o OUT.mp4 (.mov, .m4v, .mkv,
     .webm) encodes the frames into one video instead, with the encoder
     options of `spherewarp video` (--codec, --crf, --preset, --pix-fmt); an
-    equirectangular one carries the 360° metadata. The recipe's options apply
-    unless given here.
+    equirectangular one carries the 360° metadata. A video is rendered in
+    segments as `spherewarp video` renders one (--segment, --resume, --jobs,
+    --dask, --progress). The recipe's options apply unless given here.
     """
     from ..recipe import Recipe
     from ._common import run_inputs
@@ -505,6 +512,8 @@ def animate(
     groups = _groups(r, recipe, inputs)
     kwargs = {"render": render, "recipe": recipe, "r": r, "fps": fps, "duration": duration}
     kwargs["encoding"] = encoding
+    kwargs["segments"] = {"progress": progress, "segment": segment, "resume": resume,
+                          "jobs": jobs, "dask": dask}  # fmt: skip
     if groups is None:
         run_inputs(_animate_one, inputs, kwargs)
         return
@@ -520,6 +529,7 @@ def _animate_one(
     fps: float,
     duration: float | None,
     encoding: dict[str, Any],
+    segments: dict[str, Any],
 ) -> None:
     from dataclasses import replace
 
@@ -546,7 +556,8 @@ def _animate_one(
     ctx = click.get_current_context()
     render = _with_recipe_options(ctx, render, r.at(0.0))
     if is_video_output(render.output):
-        return _animate_video(group, render, r, times, fps, encoding)
+        return _animate_video(group, render, r, times, fps, encoding, segments)
+    refuse_segment_options(segments, "numbered images are written one by one")
     if any(v is not None for v in encoding.values()):
         given = next(k for k, v in encoding.items() if v is not None).replace("_", "-")
         raise click.BadParameter("goes with a video -o (OUT.mp4 ...)", param_hint=f"--{given}")
@@ -570,9 +581,9 @@ def _animate_video(
     times: list[float],
     fps: float,
     encoding: dict[str, Any],
+    segments: dict[str, Any],
 ) -> None:
-    """``animate ... -o OUT.mp4``: the frames encoded into one video."""
-    from ._common import convert_for_output
+    """``animate ... -o OUT.mp4``: the frames encoded into one video, in segments."""
     from ._files import job
     from ._video_out import animate_video
 
@@ -584,11 +595,4 @@ def _animate_video(
 
         raise OutputExistsError(f"{str(render.output)!r} exists; pass --overwrite to replace it")
     srcs = _load_all(group, render)
-
-    def render_frame(src: Any, frame: Any, one: RenderOptions) -> Any:
-        out, _ = _render_frame(src, frame, one, "animate")
-        if out.dtype.kind == "f":  # HDR: tone-mapped as for a 16-bit PNG
-            out = convert_for_output(out, Path("frame.png"), one)
-        return out
-
-    animate_video(srcs, render, r, times, fps, encoding, render_frame)
+    animate_video(group, srcs, render, r, times, fps, encoding, segments)

@@ -8,13 +8,13 @@ for what is kept (timing, audio, spherical metadata).
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 from typing import Any
 
 import click
 
 from ._common import POINT, SIZE, example, view_options
+from ._video_out import PathOrURL, refuse_segment_options, segment_options, segment_progress
 from .branched_cmds import _LOOK_AT_HELP, EXP_SUPERSAMPLE, EXPONENT, POSITIVE
 from .mobius_cmds import ANGLE, FACTOR, MATRIX
 
@@ -54,13 +54,14 @@ class _EffectGroup(click.Group):
         "spherewarp video still-tb.jpg --stereo tb -o turned.jpg rotate --yaw 90",
     ),
 )
-@click.argument("input", nargs=-1, required=True, type=click.Path(path_type=Path, dir_okay=False))
+@click.argument("input", nargs=-1, required=True, type=PathOrURL())
 @click.option(
     "-o",
     "--output",
-    type=click.Path(path_type=Path, dir_okay=False),
+    type=PathOrURL(),
     help="The video to write (.mp4, .mov, .m4v, .mkv or .webm), or an image sequence "
-    "(out/%05d.exr; PNG, TIFF, EXR...); may also follow the effect.",
+    "(out/%05d.exr; PNG, TIFF, EXR...); may also follow the effect. A video (INPUT too) may "
+    "be an fsspec URL (ftp://host/out.mp4).",
 )
 @click.option(
     "--codec",
@@ -107,41 +108,7 @@ class _EffectGroup(click.Group):
 @click.option("--force", is_flag=True, help="Warp a video whose frame (eye) is not 2:1.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing output.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar, no notes.")
-@click.option(
-    "--progress",
-    type=click.Choice(["bar", "json", "none"], case_sensitive=False),
-    default="bar",
-    show_default=True,
-    help="bar: a progress bar on a terminal; json: one JSON object a line on stderr (frames, "
-    "total, fps, eta), for scripts; none.",
-)
-@click.option(
-    "--segment",
-    type=click.FloatRange(min=0, min_open=True),
-    default=None,
-    metavar="S",
-    help="Seconds of video in each segment (default 10): a video is rendered in segments, "
-    "each starting on a keyframe, in OUT.parts/ beside the output, then joined.",
-)
-@click.option(
-    "--resume",
-    is_flag=True,
-    help="Continue an interrupted render from the finished segments in OUT.parts/.",
-)
-@click.option(
-    "-j",
-    "--jobs",
-    type=click.IntRange(min=1),
-    default=1,
-    show_default=True,
-    help="Segments rendered at once by local processes (each with its share of the cores).",
-)
-@click.option(
-    "--dask",
-    metavar="ADDRESS",
-    help="Render the segments on the workers of this Dask scheduler (tcp://host:8786); "
-    "the input and the output's folder must be at the same path on every worker.",
-)
+@segment_options
 @click.pass_context
 def video(ctx: click.Context, input: tuple[Path, ...], output: Path, **options: Any) -> None:
     """Apply an effect to every frame of a 360° video.
@@ -255,9 +222,7 @@ class _Timed:
 def _outputs(func: Any) -> Any:
     """-o and --overwrite after the effect too (``video IN zoom ... -o OUT``)."""
     func = click.option("--overwrite", "overwrite_", is_flag=True, hidden=True)(func)
-    return click.option(
-        "-o", "--output", "output_", type=click.Path(path_type=Path, dir_okay=False), hidden=True
-    )(func)
+    return click.option("-o", "--output", "output_", type=PathOrURL(), hidden=True)(func)
 
 
 def _run(
@@ -285,25 +250,34 @@ def _run(
     o["overwrite"] = o["overwrite"] or overwrite
     if o["output"] is None:
         raise click.UsageError("give the video to write with -o OUT.mp4")
+    from ..io.remote import is_url
+    from ..io.segments import _suffix
     from ..io.sequence import is_frames, is_pattern
 
     sequence = is_frames(o["input"]) or is_frames(o["output"])
     if sequence:
         _register_sequence(o["input"], o["output"])
     else:
-        job().reads(o["input"], "input")
-        job().writes(o["output"], "-o")
+        if not is_url(o["input"]):  # a URL: read through fsspec, never written
+            job().reads(o["input"], "input")
+        if not is_url(o["output"]):
+            job().writes(o["output"], "-o")
+        elif o["output"] == o["input"]:
+            raise click.BadParameter(
+                "names the input; an input is never overwritten", param_hint="-o"
+            )
     if o["fps"] is not None and not is_frames(o["input"]):
         raise click.BadParameter(
             "applies to an image sequence input (a video keeps its frame times)",
             param_hint="--fps",
         )
-    if not is_frames(o["output"]) and o["output"].suffix.lower() not in VIDEO_EXTENSIONS:
+    if not is_frames(o["output"]) and _suffix(o["output"]).lower() not in VIDEO_EXTENSIONS:
         from ..errors import ImageFormatError
 
         raise ImageFormatError(
             f"cannot write '{o['output']}': unknown video extension "
-            f"{o['output'].suffix or '(none)'!r}; use one of {', '.join(VIDEO_EXTENSIONS)} with -o"
+            f"{_suffix(o['output']) or '(none)'!r}; use one of "
+            f"{', '.join(VIDEO_EXTENSIONS)} with -o"
         )
     if pose is None:
         pose = _Pose(o["quiet"])
@@ -311,21 +285,9 @@ def _run(
     if frame_map is None:
         frame_map = _Static(forward.inverse() if pull is None else pull, build or {})
     grid, out_shape = _grid(o, view)
-    segmented = not sequence
-    if not segmented:
-        for name in ("resume", "jobs", "dask", "segment"):
-            if o[name] not in (None, False, 1):
-                raise click.BadParameter(
-                    "applies to a video output (an image sequence is written frame by frame)",
-                    param_hint=f"--{name}",
-                )
-    mode = "none" if o["quiet"] else o["progress"].lower()
-    if mode == "json":
-        from ._progress import JsonProgress
-
-        bar: Any = JsonProgress()
-    else:
-        bar = _Bar(enabled=mode == "bar" and sys.stderr.isatty())
+    if sequence:
+        refuse_segment_options(o, "an image sequence is written frame by frame")
+    bar = segment_progress(o["quiet"], o["progress"])
     options = dict(
         codec=o["codec"], crf=o["crf"], preset=o["preset"], pix_fmt=o["pix_fmt"],
         overwrite=o["overwrite"], force=o["force"], progress=bar, stereo=o["stereo"],
@@ -458,30 +420,6 @@ class _Pose:
             )
         meta.yaw = meta.pitch = meta.roll = 0.0
         return meta
-
-
-class _Bar:
-    """Frames done, frames a second and the time left, on a terminal."""
-
-    def __init__(self, enabled: bool) -> None:
-        self.enabled = enabled
-        self._bar: Any = None
-
-    def __call__(self, done: int, total: int) -> None:
-        if not self.enabled:
-            return
-        if self._bar is None:
-            from tqdm import tqdm
-
-            self._bar = tqdm(total=total or None, unit="frame", file=sys.stderr, leave=False)
-        if total and self._bar.total != total:
-            self._bar.total = total
-        self._bar.update(done - self._bar.n)
-
-    def close(self) -> None:
-        if self._bar is not None:
-            self._bar.close()
-            self._bar = None
 
 
 @video.command("rotate")

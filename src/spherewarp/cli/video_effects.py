@@ -299,8 +299,8 @@ def video_splitscreen(
     from ..io.stereo import is_panorama, resolve_grid
     from ..io.video import VIDEO_EXTENSIONS
     from ._files import job
+    from ._progress import FrameBar
     from .branched_cmds import EXP_SUPERSAMPLE, _look_at
-    from .video_cmds import _Bar
 
     o = ctx.obj
     if output_ is not None:
@@ -370,7 +370,7 @@ def video_splitscreen(
 
         first = probe(inputs[0])
         panorama = is_panorama(resolve_grid(grid_of, (first.height, first.width)))
-    bar = _Bar(enabled=not quiet and sys.stderr.isatty())
+    bar = FrameBar(enabled=not quiet and sys.stderr.isatty())
     try:
         n_done = render_clips(
             inputs, o["output"], combine, codec=o["codec"], crf=o["crf"], preset=o["preset"],

@@ -8,8 +8,10 @@ starts on a keyframe), into a work directory beside the output, ``OUT.parts/``:
   of everything that decides the pixels (the recipe or effect and the encoder
   options: ``identity``), the segments' boundaries (frame indices and presentation
   times) and the segments done;
-* each segment is written atomically (``seg-00003.mp4``), so a half-written one is
-  never joined, and is added to the manifest once whole;
+* each segment is written atomically (``seg-00003-1a2b3c4d.mp4``: its index and the
+  first digits of ``identity``'s hash), so a half-written one is never joined, nor one
+  that a task of an earlier render (of a client killed with other options) writes late,
+  and is added to the manifest once whole;
 * when all are done they are joined without re-encoding (PyAV remuxes their
   packets), the input's audio (and other copyable streams) is muxed back with its
   packets as they are, the spherical metadata is written, the output is moved into
@@ -24,9 +26,15 @@ options is refused.
 Segments are rendered in this process (``jobs=1``), on a local process pool
 (``jobs=N``: each process renders with its share of the cores), or on the workers of
 a Dask distributed scheduler (``dask="tcp://host:8786"``; ``pip install
-"spherewarp[dask]"``), which read the input and write the segments by path: the input
-and ``OUT.parts/`` must be reachable at the same path from every worker (checked
-before any work). Dask reruns a dead worker's segment elsewhere.
+"spherewarp[dask]"``), which read the input and write the segments by path or fsspec
+URL (:mod:`spherewarp.io.remote`): the input and ``OUT.parts/`` must be reachable by
+the same name from every worker (checked before any work). Dask reruns a dead
+worker's segment elsewhere.
+
+:func:`run_segments` is the runner itself, for any render cut into frame ranges
+(:class:`Segmented`): :func:`render_segmented` runs a video through it, and
+``spherewarp animate ... -o OUT.mp4`` an animation of a still
+(:mod:`spherewarp.cli._video_out`).
 
 Examples
 --------
@@ -36,6 +44,7 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
@@ -47,7 +56,9 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InvalidValueError, SpherewarpError
+from . import remote
 from .atomic import atomic_file, write_text
+from .remote import is_url
 from .spherical import Spherical, write_spherical
 from .video import (
     FrameMap,
@@ -75,6 +86,8 @@ __all__ = [
     "render_segment",
     "render_segmented",
     "resume_hint",
+    "run_segments",
+    "Segmented",
 ]
 
 #: seconds of video a segment holds by default
@@ -91,14 +104,18 @@ class ManifestMismatch(SpherewarpError):
     """``--resume`` found a work directory made for another input or other options."""
 
 
-def parts_dir(output: str | os.PathLike[str]) -> Path:
+def parts_dir(output: str | os.PathLike[str]) -> Any:
     """The work directory of ``output``: ``OUT.parts`` beside it.
 
     Examples
     --------
     >>> parts_dir("out/tour.mp4").as_posix()
     'out/tour.mp4.parts'
+    >>> parts_dir("ftp://host/out/tour.mp4")
+    'ftp://host/out/tour.mp4.parts'
     """
+    if is_url(output):
+        return f"{output}.parts"
     output = Path(output)
     return output.with_name(output.name + ".parts")
 
@@ -107,7 +124,7 @@ def frame_times(input: str | os.PathLike[str]) -> tuple[list[int], Fraction]:
     """The presentation times of the frames of ``input``'s first video stream (in its time
     base, sorted: presentation order) and the time base; read from the packets, nothing is
     decoded."""
-    path = Path(input)
+    path = input if is_url(input) else Path(input)
     with _open(path) as c:
         vin = _video_stream(c, path)
         pts = [p.pts for p in c.demux(vin) if p.pts is not None and p.size]
@@ -172,8 +189,8 @@ def render_segment(
     s = job.settings
     make_plan = s.plan_maker(job.planar)
     done = 0
-    with atomic_file(job.part, overwrite=True) as tmp:
-        src = _open(Path(job.input))
+    with writing_part(job.part) as tmp:
+        src = _open(job.input)
         try:
             vin = src.streams.video[0]
             vin.thread_type = "AUTO"
@@ -213,10 +230,31 @@ def render_segment(
     return job.index, done, size
 
 
+@contextlib.contextmanager
+def writing_part(part: str) -> Iterator[Path]:
+    """Yield a temporary file to write the segment ``part`` to; put it in place whole when the
+    block ends normally (a half-written segment is never found by its name); a URL's is
+    written locally, then uploaded and moved into place (:func:`~spherewarp.io.remote.put_atomic`).
+    """
+    if not is_url(part):
+        with atomic_file(part, overwrite=True) as tmp:
+            yield tmp
+        return
+    folder = remote.local_copy_dir()
+    try:
+        tmp = Path(folder) / _part_name(0)
+        yield tmp
+        remote.put_atomic(tmp, part, fresh=True)
+    finally:
+        remote.remove_local(folder)
+
+
 # -- the manifest -------------------------------------------------------------------------
 
 
-def _input_identity(input: Path) -> dict[str, Any]:
+def _input_identity(input: str | Path) -> dict[str, Any]:
+    if is_url(input):
+        return remote.identity(input)
     st = os.stat(input)
     return {"path": os.path.abspath(input), "size": st.st_size, "mtime_ns": st.st_mtime_ns}
 
@@ -225,65 +263,109 @@ def _digest(identity: str) -> str:
     return hashlib.sha256(identity.encode("utf-8")).hexdigest()
 
 
+class _Folder:
+    """The work directory: a local folder, or a URL (:mod:`spherewarp.io.remote`)."""
+
+    def __init__(self, where: Path | str) -> None:
+        self.where = where
+        self.url = is_url(where)
+
+    def __str__(self) -> str:
+        return str(self.where)
+
+    def file(self, name: str) -> Any:
+        """The path (or URL) of ``name`` in the folder, absolute: as workers are given it."""
+        return remote.child(self.where, name) if self.url else os.path.abspath(self.where / name)
+
+    def size(self, name: str) -> int | None:
+        if self.url:
+            return remote.size(self.file(name))
+        p = self.where / name
+        return p.stat().st_size if p.is_file() else None
+
+    def read(self, name: str) -> str | None:
+        try:
+            if self.url:
+                return remote.read_text(self.file(name))
+            return (self.where / name).read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError):
+            return None
+
+    def write(self, name: str, text: str) -> None:
+        if self.url:
+            remote.write_atomic(self.file(name), text.encode("utf-8"))
+        else:
+            write_text(self.where / name, text, overwrite=True)
+
+    def make(self) -> None:
+        if self.url:
+            remote.make_folder(self.where)
+        else:
+            self.where.mkdir(parents=True, exist_ok=True)
+
+    def remove(self) -> None:
+        if self.url:
+            remote.remove_tree(self.where)
+        else:
+            shutil.rmtree(self.where, ignore_errors=True)
+
+
 @dataclass
 class _Manifest:
-    path: Path
+    folder: _Folder
     data: dict[str, Any] = field(default_factory=dict)
 
     def save(self) -> None:
-        write_text(self.path, json.dumps(self.data, indent=1) + "\n", overwrite=True)
+        self.folder.write(_MANIFEST, json.dumps(self.data, indent=1) + "\n")
 
     def done(self, index: int) -> bool:
         entry = self.data["done"].get(str(index))
         if entry is None:
             return False
-        part = self.path.parent / entry["file"]
-        return part.is_file() and part.stat().st_size == entry["bytes"]
+        return self.folder.size(entry["file"]) == entry["bytes"]
+
+    def part(self, index: int) -> str:
+        """The file name of segment ``index`` of this render."""
+        return _part_name(index, self.data["options"])
 
     def mark(self, index: int, size: int) -> None:
-        self.data["done"][str(index)] = {"file": _part_name(index), "bytes": size}
+        self.data["done"][str(index)] = {"file": self.part(index), "bytes": size}
         self.save()
 
 
-def _part_name(index: int) -> str:
-    return f"seg-{index:05d}.{_PART_FORMAT}"
+def _part_name(index: int, options: str = "") -> str:
+    tag = f"-{options[:8]}" if options else ""
+    return f"seg-{index:05d}{tag}.{_PART_FORMAT}"
 
 
 def _open_manifest(
-    work: Path,
-    input: Path,
+    work: _Folder,
+    source: Any,
+    name: str,
     identity: str,
-    pts: list[int],
-    ranges: list[tuple[int, int]],
+    segments: list[dict[str, Any]],
     resume: bool,
 ) -> _Manifest:
     """The manifest to render by: the one found with ``resume`` (refused if it was made for
-    another input or other options), else a fresh one (old parts removed)."""
+    another input or other options), else a fresh one (old parts removed). ``source``
+    describes the input (``name`` names it in messages), ``segments`` the boundaries."""
     data = {
         "spherewarp_segments": _VERSION,
-        "input": _input_identity(input),
+        "input": source,
         "options": _digest(identity),
-        "frames": len(pts),
-        "segments": [
-            {
-                "index": i,
-                "start": a,
-                "end": b,
-                "start_pts": pts[a],
-                "end_pts": pts[b] if b < len(pts) else None,
-            }
-            for i, (a, b) in enumerate(ranges)
-        ],  # fmt: skip
+        "frames": segments[-1]["end"] if segments else 0,
+        "segments": segments,
         "done": {},
     }
-    m = _Manifest(work / _MANIFEST, data)
-    if resume and m.path.is_file():
+    m = _Manifest(work, data)
+    text = work.read(_MANIFEST) if resume else None
+    if text is not None:
         try:
-            found = json.loads(m.path.read_text(encoding="utf-8"))
-        except (OSError, ValueError):
+            found = json.loads(text)
+        except ValueError:
             found = {}
         for key, what in (
-            ("input", f"another input (not '{input}' as it is now)"),
+            ("input", f"another input (not '{name}' as it is now)"),
             ("options", "other options (another effect, recipe or encoder setting)"),
             ("segments", "other segment boundaries (another --segment)"),
         ):
@@ -294,9 +376,8 @@ def _open_manifest(
                 )
         m.data["done"] = dict(found.get("done", {}))
         return m
-    if work.exists():
-        shutil.rmtree(work)
-    work.mkdir(parents=True)
+    work.remove()
+    work.make()
     m.save()
     return m
 
@@ -312,15 +393,21 @@ def _worker_init() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
+#: ``render(job, progress) -> (index, frames, bytes)``: renders one segment (module level, so
+#: that a process pool or a Dask worker imports it)
+Render = Callable[..., tuple[int, int, int]]
+
+
 def _run_local(
-    jobs: list[SegmentJob],
+    jobs: list[Any],
     n: int,
     on_done: Callable[[tuple[int, int, int]], None],
     on_frame: Callable[[int, int], None],
+    render: Render = render_segment,
 ) -> None:
     if n <= 1:
         for job in jobs:
-            result = render_segment(job, lambda k, i=job.index: on_frame(i, k))
+            result = render(job, lambda k, i=job.index: on_frame(i, k))
             on_done(result)
         return
     import multiprocessing
@@ -334,7 +421,7 @@ def _run_local(
     )
     clean = False
     try:
-        pending = {pool.submit(render_segment, job) for job in jobs}
+        pending = {pool.submit(render, job) for job in jobs}
         while pending:
             finished, pending = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
             for f in finished:
@@ -382,9 +469,16 @@ def dask_client(address: str) -> Any:
 
 
 def _can_reach(paths: list[str], writable: list[str]) -> list[str]:
-    """Run on each worker: the paths it cannot read (or write)."""
-    bad = [p for p in paths if not os.access(p, os.R_OK)]
-    return bad + [p for p in writable if not os.access(p, os.W_OK)]
+    """Run on each worker: the paths (or URLs) it cannot read (or write)."""
+    bad = [p for p in paths if not is_url(p) and not os.access(p, os.R_OK)]
+    bad += [p for p in writable if not is_url(p) and not os.access(p, os.W_OK)]
+    urls = [p for p in paths if is_url(p)], [p for p in writable if is_url(p)]
+    if urls[0] or urls[1]:
+        try:
+            bad += remote.reachable(*urls)
+        except InvalidValueError:  # no fsspec on this worker
+            bad += urls[0] + urls[1]
+    return bad
 
 
 def check_workers(client: Any, read: list[str], write: list[str] = ()) -> None:
@@ -398,18 +492,20 @@ def check_workers(client: Any, read: list[str], write: list[str] = ()) -> None:
         if bad:
             raise InvalidValueError(
                 f"--dask: worker {worker} cannot reach '{bad[0]}'; inputs and outputs must be "
-                "at the same path on every worker (a shared file system)"
+                "at the same path (or URL) on every worker (a shared file system, or a URL "
+                "that every worker reaches with fsspec installed)"
             )
 
 
 def _run_dask(
-    jobs: list[SegmentJob],
+    jobs: list[Any],
     client: Any,
     on_done: Callable[[tuple[int, int, int]], None],
+    render: Render = render_segment,
 ) -> None:
     from distributed import as_completed
 
-    futures = [client.submit(render_segment, job, pure=False, key=f"spherewarp-seg-{job.index}-"
+    futures = [client.submit(render, job, pure=False, key=f"spherewarp-seg-{job.index}-"
                              f"{os.urandom(4).hex()}") for job in jobs]  # fmt: skip
     try:
         for f in as_completed(futures):
@@ -475,6 +571,10 @@ def render_segmented(
 
     Parameters
     ----------
+    input, output : path or str
+        The video to read and the file to write: paths, or fsspec URLs
+        (``ftp://host/in.mp4``; :mod:`spherewarp.io.remote`), whose 360° metadata is not
+        read (pass ``stereo`` for a stereo input).
     identity : str
         Everything that decides the pixels, as text (the effect and its options, the
         recipe's contents, the encoder options): a manifest made with another is refused
@@ -509,48 +609,136 @@ def render_segmented(
     >>> len(frame_times(d / "out.mp4")[0]), (d / "out.mp4.parts").exists()
     (12, False)
     """
-    global resume_hint
-    input, output = Path(input), Path(output)
-    _check_output(output)
-    if not overwrite and os.path.lexists(output):
+    input = input if is_url(input) else Path(input)
+    output = output if is_url(output) else Path(output)
+    named = Path("output" + _suffix(output))  # what the extension says (a URL's too)
+    _check_output(output if not is_url(output) else named)
+    if not overwrite and (remote.exists(output) if is_url(output) else os.path.lexists(output)):
         from .atomic import exists_error
 
         raise exists_error(output)
-    s = prepare(input, output, codec, crf, preset, pix_fmt, stereo, grid, out_shape, force)
+    target = named if is_url(output) else output
+    s = prepare(input, target, codec, crf, preset, pix_fmt, stereo, grid, out_shape, force)
     pts, tb = frame_times(input)
     if not pts:
         raise InvalidValueError(f"'{input}' has no video frames")
     rate = float(s.info.rate or 24)
     ranges = plan_segments(pts, max(1, round(segment_seconds * rate)))
-    work = parts_dir(output)
-    client = None
-    if dask is not None:
-        client = dask_client(dask) if isinstance(dask, str) else dask
-        work.mkdir(parents=True, exist_ok=True)
-        check_workers(client, [os.path.abspath(input)], [os.path.abspath(work)])
     full = (
         f"{identity}\n{s.codec} {s.out_pix} {sorted(s.options.items())} {s.size} {s.layout} "
         f"{planar}"
     )
-    manifest = _open_manifest(work, input, full, pts, ranges, resume)
-    todo = []
-    for i, (a, b) in enumerate(ranges):
-        if manifest.done(i):
-            continue
-        todo.append(
-            SegmentJob(
-                input=os.path.abspath(input),
-                part=os.path.abspath(work / _part_name(i)),
-                index=i,
-                start_pts=pts[a],
-                end_pts=pts[b] if b < len(pts) else None,
-                frames=b - a,
-                frame_map=frame_map,
-                settings=s,
-                planar=planar,
-            )  # fmt: skip
-        )
-    counter = _Frames(len(pts), progress)
+
+    source = input if is_url(input) else os.path.abspath(input)
+
+    def job(i: int, part: str) -> SegmentJob:
+        a, b = ranges[i]
+        return SegmentJob(
+            input=source, part=part, index=i, start_pts=pts[a],
+            end_pts=pts[b] if b < len(pts) else None, frames=b - a, frame_map=frame_map,
+            settings=s, planar=planar,
+        )  # fmt: skip
+
+    def join_parts(parts: list[Path], tmp: Path) -> None:
+        join(parts, input, tmp, muxer(named))
+        write_spherical(tmp, output_spherical(s.info, s.layout, s.grid, spherical))
+
+    def after(elsewhere: bool) -> None:
+        if on_client is not None and elsewhere:
+            on_client([float(p * tb) for p in pts])
+
+    segments = [
+        {"index": i, "start": a, "end": b, "start_pts": pts[a],
+         "end_pts": pts[b] if b < len(pts) else None}
+        for i, (a, b) in enumerate(ranges)
+    ]  # fmt: skip
+    plan = Segmented(
+        output=output, source=_input_identity(input), name=str(input), identity=full,
+        segments=segments, job=job, render=render_segment, join=join_parts,
+        reads=[source], after=after,
+    )  # fmt: skip
+    run_segments(plan, resume=resume, jobs=jobs, dask=dask, overwrite=overwrite,
+                 progress=progress)  # fmt: skip
+    return s.info
+
+
+@dataclass
+class Segmented:
+    """A render in segments, as :func:`run_segments` runs it (a video's, an animation's).
+
+    Attributes
+    ----------
+    output : Path
+        The file to write; the segments go to :func:`parts_dir` of it.
+    source : object
+        What the segments are made from, as JSON (the input's path, size and time): a
+        manifest made from another is refused by ``resume``.
+    name : str
+        The input, as messages name it.
+    identity : str
+        Everything else that decides the pixels, as text.
+    segments : list of dict
+        The segments' boundaries, in order, each with its ``start`` and ``end`` frame
+        indices (``[start, end)``) and whatever else locates it.
+    job : callable
+        ``job(index, part)``: what ``render`` needs to render segment ``index`` into the
+        file ``part`` (picklable: sent to a process pool or a Dask worker).
+    render : callable
+        ``render(job, progress) -> (index, frames, bytes)`` (module level).
+    join : callable
+        ``join(parts, tmp)``: write the output from the finished parts (in order) to
+        ``tmp``, metadata included; ``tmp`` is then moved into place.
+    reads : list of str
+        What every worker must read (checked before any work with ``dask``).
+    after : callable, optional
+        ``after(elsewhere)``, before the join; ``elsewhere``: the segments were rendered
+        in other processes.
+    """
+
+    output: Path
+    source: Any
+    name: str
+    identity: str
+    segments: list[dict[str, Any]]
+    job: Callable[[int, str], Any]
+    render: Render
+    join: Callable[[list[Path], Path], None]
+    reads: list[str]
+    after: Callable[[bool], None] | None = None
+
+
+def run_segments(
+    plan: Segmented,
+    *,
+    resume: bool = False,
+    jobs: int = 1,
+    dask: str | Any | None = None,
+    overwrite: bool = False,
+    progress: Callable[[int, int], None] | None = None,
+) -> None:
+    """Render ``plan``'s missing segments (in this process, on ``jobs`` local processes or on
+    the ``dask`` scheduler's workers), then join them into ``plan.output`` atomically and
+    remove the work directory (see the module documentation; the parameters are
+    :func:`render_segmented`'s).
+
+    Examples
+    --------
+    See :func:`render_segmented`, which runs a video through it.
+    """
+    global resume_hint
+    output = plan.output
+    work = _Folder(parts_dir(output))
+    client = None
+    if dask is not None:
+        client = dask_client(dask) if isinstance(dask, str) else dask
+        work.make()
+        check_workers(client, plan.reads, [work.where if work.url else os.path.abspath(work.where)])
+    ranges = [(g["start"], g["end"]) for g in plan.segments]
+    manifest = _open_manifest(work, plan.source, plan.name, plan.identity, plan.segments, resume)
+    todo = [
+        plan.job(i, work.file(manifest.part(i))) for i in range(len(ranges)) if not manifest.done(i)
+    ]
+    counter = _Frames(ranges[-1][1] if ranges else 0, progress)
     counter.whole = sum(b - a for i, (a, b) in enumerate(ranges) if manifest.done(i))
     counter._tell()
 
@@ -562,21 +750,39 @@ def render_segmented(
     resume_hint = f"rerun with --resume to continue from the finished segments in '{work}'"
     try:
         if client is not None:
-            _run_dask(todo, client, finished)
+            _run_dask(todo, client, finished, plan.render)
         else:
-            _run_local(todo, jobs, finished, counter.frame)
-        if on_client is not None and (client is not None or jobs > 1):
-            on_client([float(p * tb) for p in pts])
-        parts = [work / _part_name(i) for i in range(len(ranges))]
-        with atomic_file(output, overwrite=overwrite) as tmp:
-            join(parts, input, tmp, muxer(output))
-            write_spherical(tmp, output_spherical(s.info, s.layout, s.grid, spherical))
+            _run_local(todo, jobs, finished, counter.frame, plan.render)
+        if plan.after is not None:
+            plan.after(client is not None or jobs > 1)
+        parts = [work.file(manifest.part(i)) for i in range(len(ranges))]
+        _write_output(output, overwrite, lambda tmp: plan.join(parts, tmp))
         resume_hint = None
     finally:
         if client is not None and isinstance(dask, str):
             client.close()
-    shutil.rmtree(work, ignore_errors=True)
-    return s.info
+    work.remove()
+
+
+def _write_output(output: Path | str, overwrite: bool, write: Callable[[Path], None]) -> None:
+    """``write(tmp)`` a local temporary file, then put it in place as ``output`` atomically (a
+    URL's: uploaded, then moved)."""
+    if not is_url(output):
+        with atomic_file(output, overwrite=overwrite) as tmp:
+            write(tmp)
+        return
+    folder = remote.local_copy_dir()
+    try:
+        tmp = Path(folder) / ("output" + _suffix(output))
+        write(tmp)
+        remote.put_atomic(tmp, output)
+    finally:
+        remote.remove_local(folder)
+
+
+def _suffix(path: Path | str) -> str:
+    """The extension of a path or a URL's path."""
+    return Path(str(path).split("?", 1)[0]).suffix
 
 
 def _packets(container: Any, streams: list[Any]) -> Iterator[Any]:
@@ -585,11 +791,9 @@ def _packets(container: Any, streams: list[Any]) -> Iterator[Any]:
             yield packet
 
 
-def _video_packets(parts: list[Path]) -> Iterator[Any]:
-    import av
-
+def _video_packets(parts: list[Any]) -> Iterator[Any]:
     for part in parts:
-        with av.open(str(part)) as c:
+        with _open(part) as c:
             yield from _packets(c, [c.streams.video[0]])
 
 
@@ -598,20 +802,27 @@ def _when(packet: Any) -> Fraction:
     return t * packet.time_base
 
 
-def join(parts: list[Path], input: Path, output: Path, format: str) -> None:
+def join(parts: list[Path], input: Path | None, output: Path, format: str) -> None:
     """Join the segment files ``parts`` (in order) into ``output`` without re-encoding, with
-    the copyable streams of ``input`` (its audio) muxed back, packets as they are."""
+    the copyable streams of ``input`` (its audio; None: no input) muxed back, packets as
+    they are."""
     import heapq
 
     import av
 
-    with av.open(str(parts[0])) as first, _open(input) as src:
-        vin = src.streams.video[0]
+    with _open(parts[0]) as first, contextlib.ExitStack() as stack:
+        src = None if input is None else stack.enter_context(_open(input))
+        template = first.streams.video[0]
         with av.open(str(output), "w", format=format) as dst:
-            vout = dst.add_stream_from_template(first.streams.video[0])
-            vout.time_base = vin.time_base
-            copies = copy_streams(src, dst, vin)
-            others = [s for s in src.streams if s.index in copies]
+            vout = dst.add_stream_from_template(template)
+            copies: dict[int, Any] = {}
+            if src is None:
+                vout.time_base = template.time_base
+            else:
+                vin = src.streams.video[0]
+                vout.time_base = vin.time_base
+                copies = copy_streams(src, dst, vin)
+            others = [] if src is None else [s for s in src.streams if s.index in copies]
 
             def video() -> Iterator[tuple[Fraction, int, int, Any]]:
                 for k, p in enumerate(_video_packets(parts)):

@@ -39,6 +39,7 @@ from ..errors import ImageFormatError, InvalidValueError
 from ..maps.base import SphereMap
 from .atomic import atomic_file
 from .planes import frame_plan
+from .remote import is_url
 from .spherical import Spherical, read_spherical, write_spherical
 from .stereo import FramePlan, eye_shape, is_panorama, parse_stereo, resolve_grid
 
@@ -151,15 +152,32 @@ class VideoInfo:
     spherical: Spherical | None
 
 
-def _open(path: Path) -> Any:
+def _open(path: str | Path) -> Any:
     import av
 
+    if is_url(path):
+        return _open_url(path)
+    path = Path(path)
     if not path.is_file():
         raise ImageFormatError(f"cannot read '{path}': no such file")
     try:
         return av.open(str(path))
     except av.error.FFmpegError as exc:
         raise ImageFormatError(f"cannot read '{path}': not a video file ({exc.strerror})") from None
+
+
+def _open_url(url: str) -> Any:
+    """A container reading the URL ``url`` through fsspec (:mod:`spherewarp.io.remote`)."""
+    import av
+
+    from .remote import open_input
+
+    try:
+        return av.open(open_input(url))  # a connection of its own (a worker's threads)
+    except FileNotFoundError:
+        raise ImageFormatError(f"cannot read '{url}': no such file") from None
+    except av.error.FFmpegError as exc:
+        raise ImageFormatError(f"cannot read '{url}': not a video file ({exc.strerror})") from None
 
 
 def _video_stream(container: Any, path: Path) -> Any:
@@ -187,7 +205,7 @@ def probe(path: str | os.PathLike[str]) -> VideoInfo:
     ImageFormatError
         When ``path`` is not a video file or has no video stream.
     """
-    path = Path(path)
+    path = path if is_url(path) else Path(path)
     with _open(path) as c:
         s = _video_stream(c, path)
         cc = s.codec_context
@@ -198,7 +216,7 @@ def probe(path: str | os.PathLike[str]) -> VideoInfo:
         elif c.duration is not None:
             duration = c.duration / 1_000_000
         try:
-            sph = read_spherical(path)
+            sph = None if is_url(path) else read_spherical(path)  # a URL's: not read
         except ImageFormatError:
             sph = None
         return VideoInfo(

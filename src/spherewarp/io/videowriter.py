@@ -51,7 +51,7 @@ from .video import (
     muxer,
 )
 
-__all__ = ["VideoWriter", "video_writer", "frame_rate", "EQUIRECT"]
+__all__ = ["VideoWriter", "video_writer", "check_writer", "frame_rate", "EQUIRECT"]
 
 #: mono equirectangular spherical metadata (the default of :func:`video_writer`)
 EQUIRECT = Spherical()
@@ -143,6 +143,38 @@ def _rgb(pixels: np.ndarray, fmt: str) -> np.ndarray:
     return np.ascontiguousarray(a.astype(want))
 
 
+def check_writer(
+    output: Path,
+    size: tuple[int, int],
+    rate: Fraction,
+    *,
+    time_base: Fraction | None = None,
+    codec: str | None = None,
+    crf: float | None = None,
+    preset: str | None = None,
+    pix_fmt: str | None = None,
+    in_pix: str = "yuv420p",
+) -> tuple[Any, str, dict[str, str], Fraction]:
+    """Settle :func:`video_writer`'s encoder for these options, refusing a bad one (the
+    encoder is opened once): ``(encoder, pix_fmt, encoder options, time base)``.
+
+    Examples
+    --------
+    >>> enc, pix, options, tb = check_writer(Path("a.mp4"), (32, 64), Fraction(24))
+    >>> enc.name, pix, options, tb
+    ('libx264', 'yuv420p', {'crf': '18'}, Fraction(1, 24))
+    """
+    _check_output(output)
+    enc = _encoder(default_codec(output) if codec is None else codec)
+    out_pix = _pick_pix_fmt(enc, in_pix, pix_fmt)
+    _check_even(size, out_pix)
+    check_container(enc, output)
+    options = encoder_options(enc, crf, preset)
+    tb = time_base or 1 / Fraction(rate)
+    _check_encoder(enc, out_pix, options, SimpleNamespace(time_base=tb, rate=rate), size)
+    return enc, out_pix, options, tb
+
+
 @contextlib.contextmanager
 def video_writer(
     output: str | os.PathLike[str],
@@ -189,14 +221,10 @@ def video_writer(
     import av
 
     output = Path(output)
-    _check_output(output)
-    enc = _encoder(default_codec(output) if codec is None else codec)
-    out_pix = _pick_pix_fmt(enc, in_pix, pix_fmt)
-    _check_even(size, out_pix)
-    check_container(enc, output)
-    options = encoder_options(enc, crf, preset)
-    tb = time_base or 1 / Fraction(rate)
-    _check_encoder(enc, out_pix, options, SimpleNamespace(time_base=tb, rate=rate), size)
+    enc, out_pix, options, tb = check_writer(
+        output, size, rate, time_base=time_base, codec=codec, crf=crf, preset=preset,
+        pix_fmt=pix_fmt, in_pix=in_pix,
+    )  # fmt: skip
     rgb = "rgb48le" if _depth(out_pix) > 8 else "rgb24"
     with atomic_file(output, overwrite=overwrite) as tmp, contextlib.ExitStack() as stack:
         dst = stack.enter_context(av.open(str(tmp), "w", format=muxer(output)))
