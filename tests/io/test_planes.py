@@ -57,3 +57,17 @@ def test_colour_tags_kept():
     f = av.VideoFrame.from_ndarray(np.full((48, 64), 128, np.uint8), format="yuv420p")
     f.color_range = 2  # full range
     assert plan.apply(f).color_range == 2
+
+
+def test_a_plain_equirect_grid_takes_the_planes_path_at_their_sizes():
+    """'project --to equirect' (an unturned panorama grid): the chroma plane's plan is at
+    half the luma's size, not the grid's (the planar path crashed on reshaping)."""
+    from spherewarp.grids import Equirect
+
+    def make(shape, out):
+        return FramePlan(ZOOM, shape, grid=Equirect((32, 64)), out_shape=out)
+
+    plan = frame_plan(make, (32, 64), "yuv420p", "yuv420p", "rgb24")
+    assert isinstance(plan, PlanarPlan) and plan.chroma.out_shape == (16, 32)
+    f = av.VideoFrame.from_ndarray(np.full((48, 64), 128, np.uint8), format="yuv420p")
+    assert plan.apply(f).to_ndarray().shape == (48, 64)

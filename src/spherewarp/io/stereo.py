@@ -177,7 +177,9 @@ class FramePlan:
         self.eye_in = eye_shape(shape, self.stereo)
         self.grid = resolve_grid(grid, self.eye_in)
         if self.grid is not None and getattr(self.grid, "is_identity", False):
-            out_shape, self.grid = self.grid.shape, None  # the plain panorama: no grid
+            # the plain panorama: no grid; an asked-for size (a chroma plane's) comes first
+            out_shape = self.grid.shape if out_shape is None else out_shape
+            self.grid = None
         self.inverse_map = inverse_map
         self.options = dict(options)
         self.force = force
