@@ -338,3 +338,57 @@ def test_area_on_tiny_outputs_is_as_good_as_adaptive(shape):
         area = warp(img, m, output_shape=shape, antialias="area")
         adaptive = warp(img, m, output_shape=shape, antialias="adaptive")
         assert np.abs(area - ref).mean() <= np.abs(adaptive - ref).mean() + 0.02
+
+
+@needs_jit
+@pytest.mark.parametrize(
+    "box", [(1.5, 1.0), (2.0, 2.0), (3.0, 1.0), (0.5, 2.6), (2.5, 3.9), (3.9, 3.0)]
+)
+@pytest.mark.parametrize("dtype", [np.uint8, np.float32])
+def test_area_taps_are_exact_for_wide_boxes(box, dtype):
+    """An area tap is the bilinear surface averaged over its box, exactly: the 4 x 4 taps
+    for boxes up to 2 input pixels, wider taps up to ``AREA_BOX_MAX`` (4) beyond (a turned
+    part of a footprint, or a part of one split into ``AUTO_MAX`` parts, can be wider than
+    2; the 4 x 4 taps clamped it to 2), against a dense numerical average; round the seam
+    too, and in fixed point (to rounding) for uint8."""
+    from spherewarp.render import fast
+
+    k = fast._kernels()
+    rng = np.random.default_rng(1)
+    img = rng.integers(0, 256, (64, 128, 3)).astype(dtype)
+    f = img.astype(np.float64)
+
+    def bilinear(u, v):
+        x0 = np.floor(u).astype(int)
+        y0 = np.floor(v).astype(int)
+        fx = (u - x0)[:, None]
+        fy = (v - y0)[:, None]
+        g = lambda y, x: f[y, x % 128]  # noqa: E731 (rows stay inside here)
+        top = (1 - fx) * g(y0, x0) + fx * g(y0, x0 + 1)
+        return (1 - fy) * top + fy * ((1 - fx) * g(y0 + 1, x0) + fx * g(y0 + 1, x0 + 1))
+
+    bx, by = box
+    s = (np.arange(600) + 0.5) / 600 - 0.5
+    for u, v in ((40.3, 30.7), (126.8, 20.2)):
+        uu, vv = np.meshgrid(u + s * bx, v + s * by)
+        want = bilinear(uu.ravel(), vv.ravel()).mean(0)
+        U, V, BX, BY = (np.array([x]) for x in (u, v, bx, by))
+        if dtype == np.float32:
+            acc = np.zeros((1, 3), np.float32)
+            cover = np.zeros(1, np.int64)
+            k.area_batch(
+                fast._image_bundle(img), U, V, BX, BY, 1, np.ones(1, np.uint8),
+                np.zeros(1, np.int64), acc, cover, np.empty((8, 1), np.float32),
+                np.empty(1, np.int64), np.empty(1, np.int64),
+            )  # fmt: skip
+            np.testing.assert_allclose(acc[0], want, atol=2e-3)
+        else:
+            p64, tail, big, _ = fast._u8_views(img, np.empty_like(img))
+            sc = (np.empty((4, 1), np.int32), np.empty((4, 1), np.int32), np.empty(1, np.int32),
+                  np.empty(1, np.int32), np.empty((8, 1), np.uint64), np.empty(1, np.uint32),
+                  np.empty((4, 1), np.float32))  # fmt: skip
+            res = np.empty(1, np.uint32)
+            k.area_u8(p64, tail, big, img, 128, 64, 3, U, V, BX, BY, 1, res, sc, True,
+                      np.zeros(1, np.uint8), 0)  # fmt: skip
+            got = [(int(res[0]) >> (8 * ch)) & 255 for ch in range(3)]
+            assert np.abs(np.array(got) - want).max() <= 0.51

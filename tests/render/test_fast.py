@@ -415,16 +415,19 @@ def test_area_takes_one_tap_where_the_footprint_is_tiny(monkeypatch, method):
 
 
 @needs_jit
-def test_sliver_taps_when_switched_on(monkeypatch):
-    """The area filter's sliver taps (off by default): the exp variant's footprints near
-    the input's poles as one exact tap each: close to the parts they replace, no NaN, and
-    a still equals a WarpMap's frame."""
+def test_sliver_taps(monkeypatch):
+    """The area filter's sliver taps (on by default, ``AREA_SLIVER_BOX = 0``: off): the exp
+    variant's footprints near the input's poles as one exact tap each: close to the parts
+    they replace, no NaN, and a still equals a WarpMap's frame."""
     from spherewarp.maps.branched import ExpMap
     from spherewarp.render import antialias as aa
     from spherewarp.render.cache import WarpMap
 
     img = _image((64, 128, 3), np.uint8, seed=5)
     m = ExpMap(4.0)
+    assert aa.AREA_SLIVER_BOX == 0.25
+    monkeypatch.setattr(aa, "AREA_SLIVER_ROWS", 0.25)  # (0.05: a row or two at this size)
+    monkeypatch.setattr(aa, "AREA_SLIVER_BOX", 0.0)
     parts = warp(img, m)
     monkeypatch.setattr(aa, "AREA_SLIVER_BOX", 0.25)
     for dtype in (np.uint8, np.float32):

@@ -174,7 +174,30 @@ def test_sample_area_is_the_mean_of_the_bilinear_surface(x, y, bx, by):
     np.testing.assert_allclose(got, _dense_box_mean(img, x, y, bx, by), atol=2e-3)
 
 
-def test_sample_area_clamps_boxes_to_two_pixels():
+def test_sample_area_clamps_boxes_to_four_pixels():
     img = _image(8, 1, np.float32, seed=5)
     x, y = np.array([4.2]), np.array([3.9])
-    np.testing.assert_array_equal(sample_area(img, x, y, 5.0, 9.0), sample_area(img, x, y, 2, 2))
+    np.testing.assert_array_equal(sample_area(img, x, y, 5.0, 9.0), sample_area(img, x, y, 4, 4))
+
+
+def test_sample_area_of_wide_boxes_matches_the_compiled_taps():
+    """Boxes over 2 input pixels (up to 4) are exact in both: 6 x 6 taps here, the
+    compiled wide taps there."""
+    from spherewarp.render import fast
+
+    if not fast.available():
+        pytest.skip("numba is not installed")
+    k = fast._kernels()
+    img = _image(16, 3, np.float32, seed=6)
+    x = np.array([4.2, 9.7, 0.3, 30.9])
+    y = np.array([3.9, 8.1, 0.6, 15.2])
+    bx = np.array([2.6, 3.9, 1.0, 3.3])
+    by = np.array([1.0, 3.5, 2.9, 0.2])
+    want = sample_area(img, x, y, bx, by)
+    acc = np.zeros((4, 3), np.float32)
+    k.area_batch(
+        fast._image_bundle(img), x - 0.5, y - 0.5, bx, by, 4, np.ones(4, np.uint8),
+        np.arange(4), acc, np.zeros(4, np.int64), np.empty((8, 4), np.float32),
+        np.empty(4, np.int64), np.empty(4, np.int64),
+    )  # fmt: skip
+    np.testing.assert_allclose(acc, want, atol=1e-5)

@@ -1317,6 +1317,20 @@ def _tent_integral(s):
     return 1.0 - h2 if s >= 0.0 else h2
 
 
+@njit(inline="always", **_H)
+def _fold_row(iy, h, half):
+    """Input row ``iy`` folded over the poles (row ``-1 - iy``, half a turn round: the
+    columns shift by ``half``), clamped: ``(row, shift)``."""
+    sh = 0
+    if iy < 0:
+        iy = -1 - iy
+        sh = half
+    elif iy >= h:
+        iy = 2 * h - 1 - iy
+        sh = half
+    return min(max(iy, 0), h - 1), sh
+
+
 @njit(**_V)
 def _area_weights(U, V, BX, BY, n, WS, X0, Y0):
     """Phase 1 of :func:`area_batch` (vectorised): the first tap ``X0, Y0`` and the
@@ -1345,13 +1359,13 @@ def _area_weights(U, V, BX, BY, n, WS, X0, Y0):
 
 
 @njit(**_H)
-def _area_apply(a, h, w, c, n, WS, X0, Y0, keep, own, acc, cover):
+def _area_apply(a, h, w, c, n, WS, X0, Y0, BX, BY, keep, own, acc, cover):
     """Phase 2 of :func:`area_batch` on the typed image ``a``: the 4 x 4 taps of each
     kept sample into ``acc[own[k]]``; taps fold over the poles and wrap as in
     :func:`acc_sample`."""
     half = w // 2
     for k in range(n):
-        if not keep[k]:
+        if not keep[k] or BX[k] > AREA_BOX or BY[k] > AREA_BOX:  # (wide: _area_wide)
             continue
         j = own[k]
         x0 = X0[k]
@@ -1364,15 +1378,7 @@ def _area_apply(a, h, w, c, n, WS, X0, Y0, keep, own, acc, cover):
             wgy = WS[4 + dy, k]
             if wgy == 0.0:
                 continue
-            iy = y0 + dy
-            sh = 0
-            if iy < 0:  # fold over the pole: row -1 - iy, half a turn round
-                iy = -1 - iy
-                sh = half
-            elif iy >= h:
-                iy = 2 * h - 1 - iy
-                sh = half
-            iy = min(max(iy, 0), h - 1)
+            iy, sh = _fold_row(y0 + dy, h, half)
             ix0 = (x0 + sh) % w
             ix1 = ix0 + 1 if ix0 + 1 < w else 0
             ix2 = ix1 + 1 if ix1 + 1 < w else 0
@@ -1391,6 +1397,77 @@ def _area_apply(a, h, w, c, n, WS, X0, Y0, keep, own, acc, cover):
         cover[j] += 1
 
 
+#: The widest box (input pixels a side) of the 4 x 4 area taps. A wider one is a wide tap
+#: (:func:`_wide_weights`), exact up to :data:`AREA_BOX_MAX`: a box is the lengths of the rows
+#: of the footprint's Jacobian, split along its columns into parts of at most ``AREA_SPLIT *
+#: (1 + tol)`` (sqrt 2 * 1.1) input pixels, so that a turned part's box can be up to 2.2 a
+#: side; the parts of footprints split into ``AUTO_MAX`` parts (the exp variant's) can be far
+#: wider: exact up to 4, clamped beyond (the 4 x 4 taps clamped every box to 2).
+AREA_BOX = 2.0
+AREA_BOX_MAX = 4.0
+_WIDE_TAPS = 7  # taps a side of a box of AREA_BOX_MAX: 4 + 2 + 1
+
+
+@njit(inline="always", **_H)
+def _wide_weights(u, b, W):
+    """The weights of the tent averaged over a box of width ``b`` (clamped to
+    ``[1e-3, AREA_BOX_MAX]``) centred on ``u``, along one axis: ``W[0:m]`` for the input
+    pixels ``i0 .. i0 + m - 1`` (every pixel the tent * box touches), the exact
+    ``(F(i - u + b/2) - F(i - u - b/2)) / b`` of :func:`_area_weights`. Returns ``i0, m``."""
+    b = min(max(b, 1e-3), AREA_BOX_MAX)
+    hb = 0.5 * b
+    i0 = np.int64(math.floor(u - hb - 1.0)) + 1
+    i1 = np.int64(math.ceil(u + hb + 1.0)) - 1
+    m = min(i1 - i0 + 1, _WIDE_TAPS)
+    ib = 1.0 / b
+    for d in range(m):
+        t = (i0 + d) - u
+        W[d] = (_tent_integral(t + hb) - _tent_integral(t - hb)) * ib
+    return i0, m
+
+
+@njit(inline="always", **_H)
+def _wide_sum(a, h, w, c, u, v, bx, by, WX, WY, out):
+    """``out[0:c]``: the bilinear image ``a`` (typed, ``(h, w, c)``) averaged over the box
+    ``bx x by`` at tap-space ``(u, v)``, a box wider than :data:`AREA_BOX` (float64 sums;
+    rows fold over the poles and columns wrap, as :func:`_area_apply`)."""
+    x0, mx = _wide_weights(u, bx, WX)
+    y0, my = _wide_weights(v, by, WY)
+    half = w // 2
+    for ch in range(c):
+        out[ch] = 0.0
+    for dy in range(my):
+        wgy = WY[dy]
+        if wgy == 0.0:
+            continue
+        iy, sh = _fold_row(y0 + dy, h, half)
+        ix = (x0 + sh) % w
+        for dx in range(mx):
+            wg = wgy * WX[dx]
+            for ch in range(c):
+                out[ch] += wg * np.float64(a[iy, ix, ch])
+            ix = ix + 1 if ix + 1 < w else 0
+
+
+@njit(**_H)
+def _area_wide(a, h, w, c, U, V, BX, BY, n, keep, own, acc, cover):
+    """The kept samples of :func:`area_batch` whose box is wider than :data:`AREA_BOX`
+    (which :func:`_area_apply` leaves out): wide taps (:func:`_wide_sum`)."""
+    WX = np.empty(_WIDE_TAPS)
+    WY = np.empty(_WIDE_TAPS)
+    out = np.empty(c)
+    for k in range(n):
+        if not keep[k] or not (BX[k] > AREA_BOX or BY[k] > AREA_BOX):
+            continue
+        u = U[k] if abs(U[k]) < 1e6 else 0.0
+        v = V[k] if abs(V[k]) < 1e6 else 0.0
+        _wide_sum(a, h, w, c, u, v, BX[k], BY[k], WX, WY, out)
+        j = own[k]
+        for ch in range(c):
+            acc[j, ch] += np.float32(out[ch])
+        cover[j] += 1
+
+
 @njit(**_H)
 def area_batch(img, U, V, BX, BY, n, keep, own, acc, cover, WS, X0, Y0):
     """Area taps of ``n`` samples: ``acc[own[k]] +=`` the bilinear image averaged over
@@ -1406,19 +1483,30 @@ def area_batch(img, U, V, BX, BY, n, keep, own, acc, cover, WS, X0, Y0):
     w = img[6]
     c = img[7]
     dt = img[4]
+    nwide = 0
+    for k in range(n):
+        nwide += keep[k] != 0 and (BX[k] > AREA_BOX or BY[k] > AREA_BOX)
     if dt == 0:
-        _area_apply(img[0], h, w, c, n, WS, X0, Y0, keep, own, acc, cover)
+        _area_apply(img[0], h, w, c, n, WS, X0, Y0, BX, BY, keep, own, acc, cover)
+        if nwide > 0:
+            _area_wide(img[0], h, w, c, U, V, BX, BY, n, keep, own, acc, cover)
     elif dt == 1:
-        _area_apply(img[1], h, w, c, n, WS, X0, Y0, keep, own, acc, cover)
+        _area_apply(img[1], h, w, c, n, WS, X0, Y0, BX, BY, keep, own, acc, cover)
+        if nwide > 0:
+            _area_wide(img[1], h, w, c, U, V, BX, BY, n, keep, own, acc, cover)
     elif dt == 2:
-        _area_apply(img[2], h, w, c, n, WS, X0, Y0, keep, own, acc, cover)
+        _area_apply(img[2], h, w, c, n, WS, X0, Y0, BX, BY, keep, own, acc, cover)
+        if nwide > 0:
+            _area_wide(img[2], h, w, c, U, V, BX, BY, n, keep, own, acc, cover)
     else:
-        _area_apply(img[3], h, w, c, n, WS, X0, Y0, keep, own, acc, cover)
+        _area_apply(img[3], h, w, c, n, WS, X0, Y0, BX, BY, keep, own, acc, cover)
+        if nwide > 0:
+            _area_wide(img[3], h, w, c, U, V, BX, BY, n, keep, own, acc, cover)
 
 
 @njit(**_V)
 def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BX, BY, S, E,
-                 T, G, aa_kx, aa_ky, jmin):  # fmt: skip
+                 T, G, aa_kx, aa_ky, jmin, split):  # fmt: skip
     """Footprints (``J``, boxes ``BX x BY``) and samples per pixel of
     ``antialias="area"``; returns the number of special pixels.
 
@@ -1476,7 +1564,7 @@ def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, 
     nsp = 0
     f = np.float32
     q32 = f(q)
-    r2 = f(1.0 / math.sqrt(2.0))
+    r2 = f(1.0 / split)
     tol32 = f(tol)
     fcap = f(cap)
     one = f(1.0)
@@ -1603,8 +1691,8 @@ def _flush(nb, codes, params, kx, ky, img, interp, acc, cover, bufs, own, sv, u8
     to_source(SX, SY, SZ, nb, kx, ky, SU, SV)
     if area and u8[0]:
         c = img[7]
-        area_u8(u8[1], u8[2], u8[3], img[6], img[5], c, SU, SV, bufs[7], bufs[8], nb, asc[5], asc,
-                False)  # fmt: skip
+        area_u8(u8[1], u8[2], u8[3], img[0], img[6], img[5], c, SU, SV, bufs[7], bufs[8], nb,
+                asc[5], asc, False, sv, 1)  # fmt: skip
         F = asc[6]
         for q in range(nb):
             if sv[q]:
@@ -2030,13 +2118,42 @@ def area_blend_u8(Q, WX, WY, res, F, n, c, packed):
 
 
 @njit(**_H)
-def area_u8(p64, tail, big, w_in, h_in, c, U, V, BX, BY, n, res, sc, packed):
+def area_u8(p64, tail, big, a8, w_in, h_in, c, U, V, BX, BY, n, res, sc, packed, mask, want):
     """Area taps of ``n`` samples of a uint8 image into packed ``res`` or (not
     ``packed``) ``sc[6]`` (``sc``: the scratch ``WX, WY, X0, Y0, Q``, results)."""
     WX, WY, X0, Y0, Q, _, F = sc
     area_taps_u8(U, V, BX, BY, n, WX, WY, X0, Y0)
     area_gather_u8(p64, tail, big, w_in, h_in, c, X0, Y0, n, Q)
     area_blend_u8(Q, WX, WY, res, F, n, c, packed)
+    nwide = 0
+    for k in range(n):
+        nwide += mask[k] == want and (BX[k] > AREA_BOX or BY[k] > AREA_BOX)
+    if nwide > 0:
+        _area_wide_u8(a8, h_in, w_in, c, U, V, BX, BY, n, res, F, packed, mask, want)
+
+
+@njit(**_H)
+def _area_wide_u8(a, h, w, c, U, V, BX, BY, n, res, F, packed, mask, want):
+    """The samples of :func:`area_u8` whose box is wider than :data:`AREA_BOX`: wide
+    taps (:func:`_wide_sum`) over the 4 x 4 taps' result, rounded to nearest."""
+    WX = np.empty(_WIDE_TAPS)
+    WY = np.empty(_WIDE_TAPS)
+    out = np.empty(c)
+    for k in range(n):
+        if mask[k] != want or not (BX[k] > AREA_BOX or BY[k] > AREA_BOX):
+            continue
+        u = U[k] if abs(U[k]) < 1e6 else 0.0  # NaN or huge: 0 (as taps_u8)
+        v = V[k] if abs(V[k]) < 1e6 else 0.0
+        _wide_sum(a, h, w, c, u, v, BX[k], BY[k], WX, WY, out)
+        if packed:
+            r = np.uint32(0)
+            for ch in range(c):
+                val = min(max(math.floor(out[ch] + 0.5), 0.0), 255.0)
+                r |= np.uint32(val) << np.uint32(8 * ch)
+            res[k] = r
+        else:
+            for ch in range(c):
+                F[ch, k] = np.float32(out[ch])
 
 
 # -- uint8 nearest and bicubic: whole pixels a load, the scalar sampler's arithmetic -------------
@@ -2295,7 +2412,7 @@ def _tile(t, ntx, th, tw, ho, wo):
 def render_spec(
     img, p64, tail, big, o32, dst, ho, wo, co, fast_u8, fast_f32, fimg,
     codes, params, ccos, csin, tabs, kx, ky,
-    do_aa, aa_kx, aa_ky, tol, cap, uniform, jumps, rho, jmin, area, one_tap,
+    do_aa, aa_kx, aa_ky, tol, cap, uniform, jumps, rho, jmin, area, split, one_tap,
     sl_p, sl_index, sl_box, sl_bend, interp, bg, is_int, maxval, full, th, tw, prog, wk, nw,
 ):  # fmt: skip
     """Render an equirectangular output through the stages of a map.
@@ -2472,7 +2589,7 @@ def render_spec(
                 _edge_source(cl, sl, ecc, ecs, codes, params, mob1, kx, ky, EF, evalid)
                 nsp = _area_counts(
                     U, V, valid, w, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BXc, BYc, AS,
-                    EF[5:7], T, G, aa_kx, aa_ky, jmin,
+                    EF[5:7], T, G, aa_kx, aa_ky, jmin, split,
                 )  # fmt: skip
             elif do_aa:
                 nsp = _counts(T, G, valid, w, cl, aa_kx, aa_ky, tol, cap, uniform, nx, ny, special)
@@ -2521,7 +2638,8 @@ def render_spec(
                     continue
             elif area_px:
                 if nsmall < w:
-                    area_u8(p64, tail, big, wi, hi, c, U, V, BXc, BYc, w, res, asc, True)
+                    area_u8(p64, tail, big, img[0], wi, hi, c, U, V, BXc, BYc, w, res, asc, True,
+                            special, 0)  # fmt: skip
                 if nsmall > 0:  # one bilinear tap where the footprint is under a pixel
                     taps_u8(U, V, w, wi, hi, big, oa, ob, wt)
                     gather_u8(p64, tail, big, big_w, shift, lom, oa, ob, qa, qb, w)

@@ -110,11 +110,17 @@ AREA_ONE_TAP = 0.1
 #: many input pixels high (a sliver along the rows: the footprints near the input's poles,
 #: where the chart stretches the rows) is one exact tap of its whole box instead of parts
 #: pulled back through the map: the rows' averages from prefix sums (:data:`AREA_SLIVER_ROWS`).
-#: Off (0) by default: on the exp variant (forest.png, 1024x512, bench/speed.py) 0.25 took
-#: 0.6x the time of the parts but lost 0.6 dB against 16x16 supersampling (0.1: 0.87x, 0.44 dB)
-AREA_SLIVER_BOX = 0.0
+#: 0 turns it off. On the exp variant (forest.png, 1024x512, against 16x16 supersampling)
+#: the sliver taps lose 0.4 dB against the parts they replace, and the parts' wide taps (boxes
+#: over 2 input pixels exact up to 4, no longer clamped to 2) gain 0.2 dB: 58.92 dB with both,
+#: against 59.12 for the clamped parts alone, at 0.53x the time of the exact parts and 0.8x
+#: that of the clamped ones (2048x1024 interior.png, one thread, CPU time)
+AREA_SLIVER_BOX = 0.25
 #: the input rows whose prefix sums the sliver taps read: those with ``cos(lat)`` under this
-AREA_SLIVER_ROWS = 0.25
+#: (3% of the rows; their sums are built per render, 12 MiB for a 4096x2048 RGB input: 0.25
+#: took 140 ms and 62 MiB there, 18% of the time of a zoom's area filter, and gained the exp
+#: variant 3% of its time but lost it 0.2 dB)
+AREA_SLIVER_ROWS = 0.05
 #: a sliver tap only where the chart bends the footprint by at most this many input rows (a
 #: straight piece of the sphere near a pole is an arc in the chart; parts follow it)
 AREA_SLIVER_BEND = 0.05

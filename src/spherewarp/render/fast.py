@@ -57,8 +57,12 @@ __all__ = [
 
 INTERP_CODES = {"nearest": 0, "bilinear": 1, "bicubic": 2}
 
-#: output tile (rows, columns) of the compiled kernels
-TILE = (64, 64)
+#: output tile (rows, columns) of the compiled kernels. Rows of 512 rather than 64: each row of
+#: a tile is a chunk that the kernels' helpers are called on, so per-call costs (numba's
+#: reference counting of the arrays passed) are spread over 8x the pixels; the pixels do not
+#: depend on it (bit for bit). 12-15% less time on a zoom with and without the area filter
+#: (2048x1024, one thread, CPU time); nothing measurable on the exp variant
+TILE = (8, 512)
 
 _STATE: dict[str, Any] = {}
 _UNALIGNED_OK = platform.machine().lower() in ("x86_64", "amd64", "aarch64", "arm64")
@@ -467,7 +471,7 @@ def render_spec(
         _image_bundle(src), p64, tail, big, o32, _output_bundle(out), h_out, w_out, out.shape[2],
         fast, fast_f, fimg, spec.codes, spec.params, ccos, csin, tabs, kx, ky,
         do_aa, aa_kx, aa_ky, tol, cap, uniform, jumps, rho_in, _aa.JUMP_SAMPLES, area,
-        float(_aa.AREA_ONE_TAP), *_sliver_rows(src, area),
+        float(_aa.AREA_SPLIT), float(_aa.AREA_ONE_TAP), *_sliver_rows(src, area),
         INTERP_CODES[interp], np.asarray(background, np.float32), is_int, maxval, full,
         th, tw,
     )  # fmt: skip

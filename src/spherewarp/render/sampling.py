@@ -137,6 +137,10 @@ def _tent_integral(s: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.where(s >= 0.0, 1.0 - 0.5 * a * a, 0.5 * a * a)
 
 
+#: the widest box of :func:`sample_area` (``_kernels.AREA_BOX_MAX``)
+_BOX_MAX = 4.0
+
+
 def sample_area(
     image: NDArray,
     x: NDArray[np.floating],
@@ -149,8 +153,9 @@ def sample_area(
     The area tap of ``antialias="area"`` (float64 NumPy, the reference for the
     compiled one): the image's bilinear interpolant averaged over the box
     ``bx x by`` input pixels centred on ``(x, y)``, in closed form as 4 x 4
-    taps of a tent convolved with a box. Box sides are clamped to
-    ``[1e-3, 2]`` pixels (a side of ``1e-3`` is a bilinear tap). Taps wrap
+    taps of a tent convolved with a box (6 x 6 where a box is wider than 2
+    input pixels). Box sides are clamped to ``[1e-3, 4]`` pixels (a side of
+    ``1e-3`` is a bilinear tap; the compiled taps' ``AREA_BOX_MAX``). Taps wrap
     in longitude and fold over the poles as in :func:`sample`.
 
     Parameters
@@ -176,19 +181,22 @@ def sample_area(
     """
     h, w, c, flat, fx, fy = _tap_space(image, x, y)
     shape = fx.shape
-    hx = 0.5 * np.clip(np.broadcast_to(np.asarray(bx, np.float64), shape), 1e-3, 2.0)
-    hy = 0.5 * np.clip(np.broadcast_to(np.asarray(by, np.float64), shape), 1e-3, 2.0)
-    x0f = np.floor(fx) - 1.0
-    y0f = np.floor(fy) - 1.0
+    hx = 0.5 * np.clip(np.broadcast_to(np.asarray(bx, np.float64), shape), 1e-3, _BOX_MAX)
+    hy = 0.5 * np.clip(np.broadcast_to(np.asarray(by, np.float64), shape), 1e-3, _BOX_MAX)
+    # a box up to 2 wide touches 4 pixels a side, up to 4 wide 6 (the others weigh 0)
+    wide = hx.size > 0 and max(float(hx.max()), float(hy.max())) > 1.0
+    n, lo = (6, 2.0) if wide else (4, 1.0)
+    x0f = np.floor(fx) - lo
+    y0f = np.floor(fy) - lo
     tx = x0f - fx
     ty = y0f - fy
     x0 = x0f.astype(np.intp)
     y0 = y0f.astype(np.intp)
     out = np.zeros((*shape, c), dtype=np.float64)
-    for j in range(4):
+    for j in range(n):
         wy = (_tent_integral(ty + j + hy) - _tent_integral(ty + j - hy)) / (2 * hy)
         row = np.zeros((*shape, c), dtype=np.float64)
-        for i in range(4):
+        for i in range(n):
             wx = (_tent_integral(tx + i + hx) - _tent_integral(tx + i - hx)) / (2 * hx)
             row += wx[..., None] * flat[_flat_index(y0 + j, x0 + i, h, w)]
         out += wy[..., None] * row
