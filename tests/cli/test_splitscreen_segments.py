@@ -37,12 +37,13 @@ def test_splitscreen_jobs_two_gives_the_same_file_with_the_first_clips_times_and
     assert 0 < len(audio) < len(whole) and audio == whole[: len(audio)]  # up to its end
 
 
-def test_splitscreen_resume_after_an_interrupt_gives_the_same_file(workdir):
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGKILL])
+def test_splitscreen_resume_after_a_kill_gives_the_same_file(workdir, sig):
     make_clip(workdir / "a.mp4", frames=48)
     make_clip(workdir / "b.mp4", frames=48)
     args = ("video", "a.mp4", "b.mp4", *SPLIT)
     ok(None, *args, "-o", "whole.mp4")
-    done = stop_midway(args, "cut.mp4", signal.SIGINT)  # no output left, says --resume
+    done = stop_midway(args, "cut.mp4", sig)  # no output left (SIGINT: says --resume)
     code, _, err = run(None, "video", "a.mp4", "b.mp4", "--resume", "--progress", "json",
                        "--segment", SEG, "splitscreen", "--seam", "0", "-o", "cut.mp4")  # fmt: skip
     assert code == 0, err

@@ -288,7 +288,9 @@ def video_splitscreen(
     as `spherewarp splitscreen` combines stills: `spherewarp video a.mp4 b.mp4 -o out.mp4
     splitscreen`. The clips are decoded in lock-step and need one frame rate; the shortest
     ends the output (a note says so). The first clip's frame times and audio are kept. An
-    --seam auto is chosen on the first frames and kept for the whole video."""
+    --seam auto is chosen on the first frames and kept for the whole video. It renders in
+    segments as every video does (--segment, --resume, --jobs, --dask), cut at the first
+    clip's frame times."""
     _size_after(ctx, size_)
     from ..io.multiclip import render_clips
     from ..io.sequence import is_frames
