@@ -1,6 +1,6 @@
 """``--dask``: a real ``dask scheduler`` and two ``dask worker`` processes on 127.0.0.1 render
 a video's segments (one worker killed mid-render; the client killed and resumed), an
-animation's and a batch of stills, as a local run does."""
+animation's, a split-screen of two clips' and a batch of stills, as a local run does."""
 
 from __future__ import annotations
 
@@ -130,6 +130,18 @@ def test_animate_on_dask_gives_the_same_file(workdir, cluster):
     args = ("animate", "spin.json", "pano.png", "--fps", "24", "--segment", SEG, "-q")
     ok(None, *args, "-o", "local.mp4")
     code, _, err = run(None, *args, "-o", "dask.mp4", "--dask", cluster.address)
+    assert code == 0 and err == "", err
+    assert digest("dask.mp4") == digest("local.mp4")
+    assert not Path("dask.mp4.parts").exists()
+
+
+def test_splitscreen_of_clips_on_dask_gives_the_same_file(workdir, cluster):
+    make_clip(workdir / "a.mp4", frames=12)
+    make_clip(workdir / "b.mp4", frames=12)
+    split = ("splitscreen", "--seam", "0")
+    args = ("video", "a.mp4", "b.mp4", "--segment", SEG, "-q")
+    ok(None, *args, *split, "-o", "local.mp4")
+    code, _, err = run(None, *args, "--dask", cluster.address, *split, "-o", "dask.mp4")
     assert code == 0 and err == "", err
     assert digest("dask.mp4") == digest("local.mp4")
     assert not Path("dask.mp4.parts").exists()

@@ -18,14 +18,13 @@ renders every frame into a view; ``splitscreen`` combines several clips
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 from typing import Any
 
 import click
 
 from ._common import SIZE, RealType
-from .video_cmds import _grid, _Pose, _run, run_recipe, video
+from .video_cmds import _grid, _identity, _Pose, _run, run_recipe, video
 from .video_cmds import _outputs as _video_outputs
 
 __all__ = ["GENERATED"]
@@ -289,17 +288,17 @@ def video_splitscreen(
     as `spherewarp splitscreen` combines stills: `spherewarp video a.mp4 b.mp4 -o out.mp4
     splitscreen`. The clips are decoded in lock-step and need one frame rate; the shortest
     ends the output (a note says so). The first clip's frame times and audio are kept. An
-    --seam auto is chosen on the first frames and kept for the whole video."""
+    --seam auto is chosen on the first frames and kept for the whole video. It renders in
+    segments as every video does (--segment, --resume, --jobs, --dask), cut at the first
+    clip's frame times."""
     _size_after(ctx, size_)
-    import spherewarp.effects.splitscreen as ss
-
     from ..io.multiclip import render_clips
     from ..io.sequence import is_frames
     from ..io.spherical import Spherical
     from ..io.stereo import is_panorama, resolve_grid
     from ..io.video import VIDEO_EXTENSIONS
     from ._files import job
-    from ._progress import FrameBar
+    from ._video_out import segment_progress
     from .branched_cmds import EXP_SUPERSAMPLE, _look_at
 
     o = ctx.obj
@@ -343,26 +342,10 @@ def video_splitscreen(
         "force": o["force"],
     }  # fmt: skip
     grid_of, out_shape = _grid(o, None)
-    state: dict[str, Any] = {"seam": seam}
-    quiet = o["quiet"]
-
-    def combine(frames: list[Any]) -> Any:
-        if state["seam"] == "auto":
-            state["seam"] = ss.auto_seam(frames, feather_deg=feather, **options)
-            if not quiet:
-                click.echo(f"seam: input meridian at longitude {state['seam']:.1f} (auto)")
-        eye = frames[0].shape[:2]
-        return ss.splitscreen(
-            frames,
-            seam=float(state["seam"]),
-            feather_deg=feather,
-            view=_look_at(look_at),
-            output_shape=out_shape,
-            grid=resolve_grid(grid_of, eye) if grid_of is not None else None,
-            supersample=EXP_SUPERSAMPLE if cover == "exp" else 1,
-            **options,
-        )
-
+    combine = _Combine(
+        options, seam, feather, _look_at(look_at), out_shape, grid_of,
+        EXP_SUPERSAMPLE if cover == "exp" else 1, o["quiet"],
+    )  # fmt: skip
     if grid_of is None:
         panorama = True
     else:
@@ -370,17 +353,60 @@ def video_splitscreen(
 
         first = probe(inputs[0])
         panorama = is_panorama(resolve_grid(grid_of, (first.height, first.width)))
-    bar = FrameBar(enabled=not quiet and sys.stderr.isatty())
+    bar = segment_progress(o["quiet"], o["progress"])
     try:
         n_done = render_clips(
             inputs, o["output"], combine, codec=o["codec"], crf=o["crf"], preset=o["preset"],
             pix_fmt=o["pix_fmt"], overwrite=o["overwrite"], force=o["force"],
             spherical=Spherical() if panorama else None, progress=bar,
             note=lambda text: click.echo(f"spherewarp: note: {text}", err=True),
+            identity=_identity(ctx, {k: v for k, v in o.items() if k != "inputs"}),
+            resume=o["resume"], jobs=o["jobs"], dask=o["dask"], segment_seconds=o["segment"],
         )  # fmt: skip
     finally:
         bar.close()
     click.echo(f"wrote {o['output']} ({n_done} frames)")
+
+
+class _Combine:
+    """``combine(frames)`` of ``video ... splitscreen``: the clips' frames on the sheets
+    (picklable: segments render elsewhere). An automatic seam is chosen on the first frames
+    it is given (in the client, before any segment) and kept."""
+
+    def __init__(
+        self,
+        options: dict[str, Any],
+        seam: str | float,
+        feather: float,
+        view: Any,
+        out_shape: Any,
+        grid_of: Any,
+        supersample: int,
+        quiet: bool,
+    ) -> None:
+        self.options, self.seam, self.feather, self.view = options, seam, feather, view
+        self.out_shape, self.grid_of, self.supersample = out_shape, grid_of, supersample
+        self.quiet = quiet
+
+    def __call__(self, frames: list[Any]) -> Any:
+        import spherewarp.effects.splitscreen as ss
+        from spherewarp.io.stereo import resolve_grid
+
+        if self.seam == "auto":
+            self.seam = ss.auto_seam(frames, feather_deg=self.feather, **self.options)
+            if not self.quiet:
+                click.echo(f"seam: input meridian at longitude {self.seam:.1f} (auto)")
+        eye = frames[0].shape[:2]
+        return ss.splitscreen(
+            frames,
+            seam=float(self.seam),
+            feather_deg=self.feather,
+            view=self.view,
+            output_shape=self.out_shape,
+            grid=resolve_grid(self.grid_of, eye) if self.grid_of is not None else None,
+            supersample=self.supersample,
+            **self.options,
+        )
 
 
 video.add_command(video_splitscreen)

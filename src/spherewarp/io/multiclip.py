@@ -3,9 +3,12 @@
 :func:`render_clips` is the split-screen of two clips (the paper's apartment
 video: ``spherewarp video a.mp4 b.mp4 -o out.mp4 splitscreen``): frame k of
 every input goes to ``combine`` together; the output keeps the first input's
-frame times and audio (packets copied as they are), and is written with
-:func:`spherewarp.io.videowriter.video_writer` (the encoder options of
-``spherewarp video``, spherical metadata, atomically).
+frame times and audio (packets copied as they are). It renders in segments as
+every other video does (:func:`spherewarp.io.segments.run_segments`: GOP-aligned
+segments in ``OUT.parts/``, cut at the first clip's frame times, ``resume``,
+``jobs``, ``dask``): each segment (a :class:`ClipsJob`, rendered by
+:func:`render_clips_segment`) decodes every clip for its frame range, in lock-step,
+and the joined output carries the spherical metadata.
 
 The clips must share a frame rate; when their frame counts differ, the
 shortest ends the output (``note`` is told so).
@@ -14,8 +17,11 @@ shortest ends the output (``note`` is told so).
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass
+from fractions import Fraction
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -24,7 +30,7 @@ from .spherical import Spherical
 from .video import VideoInfo, _depth, _encoder, _open, _pick_pix_fmt, default_codec, probe
 from .videowriter import EQUIRECT
 
-__all__ = ["render_clips", "check_clips"]
+__all__ = ["ClipsJob", "check_clips", "render_clips", "render_clips_segment"]
 
 
 def check_clips(
@@ -65,6 +71,86 @@ def check_clips(
     return infos, n, note
 
 
+@dataclass
+class ClipsJob:
+    """One segment of a split-screen of clips: frames ``[start, start + frames)`` of every
+    clip, combined and encoded into ``part`` (picklable: sent to a process pool or a Dask
+    worker; ``combine`` must pickle too)."""
+
+    index: int
+    part: str
+    inputs: list[str]
+    starts: list[int]  # each clip's presentation time of the segment's first frame
+    frames: int
+    combine: Any
+    rgb: str
+    size: tuple[int, int]
+    rate: Fraction
+    time_base: Fraction
+    encoding: dict[str, Any]
+    in_pix: str
+    threads: int | None = None
+
+
+def _from(frames: Iterator[Any], start: int) -> Iterator[Any]:
+    for f in frames:
+        if f.pts is not None and f.pts >= start:
+            yield f
+
+
+def _decoders(containers: list[Any], starts: list[int], seek: bool) -> list[Iterator[Any]]:
+    """Each clip's frames from its frame at ``starts[k]`` on (``seek``: from the keyframe
+    before it, else from the clip's start)."""
+    out = []
+    for c, start in zip(containers, starts, strict=True):
+        vin = c.streams.video[0]
+        vin.thread_type = "AUTO"
+        if seek:
+            c.seek(start, stream=vin, backward=True, any_frame=False)
+        out.append(_from(c.decode(vin), start))
+    return out
+
+
+def render_clips_segment(
+    job: ClipsJob, progress: Callable[[int], None] | None = None
+) -> tuple[int, int, int]:
+    """Render one :class:`ClipsJob` to ``job.part`` atomically; return ``(index, frames,
+    bytes)`` (a :func:`spherewarp.io.segments.run_segments` ``render``); ``progress(k)``
+    after each frame."""
+    from .segments import _dask_threads, _set_threads, writing_part
+    from .videowriter import video_writer
+
+    _set_threads(job.threads if job.threads is not None else _dask_threads())
+    containers = [_open(p) for p in job.inputs]
+    done = 0
+    try:
+        decoders = _decoders(containers, job.starts, job.index > 0)
+        with writing_part(job.part) as tmp:
+            with video_writer(
+                tmp, job.size, job.rate, time_base=job.time_base, in_pix=job.in_pix,
+                overwrite=True, spherical=None, **job.encoding,
+            ) as writer:  # fmt: skip
+                while done < job.frames:
+                    frames = [next(d, None) for d in decoders]
+                    if any(f is None for f in frames):
+                        break
+                    out = job.combine([f.to_ndarray(format=job.rgb) for f in frames])
+                    writer.write(out, frames[0].pts, frames[0].time_base)
+                    done += 1
+                    if progress is not None:
+                        progress(done)
+                if done != job.frames:
+                    raise RuntimeError(
+                        f"segment {job.index} of '{job.inputs[0]}' gave {done} frames, "
+                        f"expected {job.frames}"
+                    )
+            size = os.path.getsize(tmp)
+    finally:
+        for c in containers:
+            c.close()
+    return job.index, done, size
+
+
 def render_clips(
     inputs: Sequence[str | os.PathLike[str]],
     output: str | os.PathLike[str],
@@ -79,8 +165,14 @@ def render_clips(
     spherical: Spherical | None = EQUIRECT,
     progress: Callable[[int, int], None] | None = None,
     note: Callable[[str], None] | None = None,
+    identity: str = "",
+    resume: bool = False,
+    jobs: int = 1,
+    dask: str | Any | None = None,
+    segment_seconds: float | None = None,
 ) -> int:
-    """Combine frame k of every input into frame k of ``output``; return the frames written.
+    """Combine frame k of every input into frame k of ``output``, in segments; return the
+    frames written.
 
     Parameters
     ----------
@@ -90,7 +182,9 @@ def render_clips(
         The video to write (``.mp4``, ``.mov``, ``.m4v``, ``.mkv``, ``.webm``).
     combine : callable
         ``combine([frame_1, frame_2, ...]) -> frame``: RGB arrays (``uint8``, or
-        ``uint16`` when the output has more than 8 bits), one from each input.
+        ``uint16`` when the output has more than 8 bits), one from each input. It is first
+        called here on the first frames (it may settle what it chooses from them, e.g. an
+        automatic seam), then (pickled, with ``jobs > 1`` or ``dask``) for every frame.
     codec, crf, preset, pix_fmt, overwrite
         As :func:`spherewarp.io.video.render_video`.
     force : bool
@@ -98,62 +192,96 @@ def render_clips(
     spherical : Spherical or None
         The output's spherical metadata (default: mono equirectangular).
     progress : callable, optional
-        ``progress(done, total)`` after each frame.
+        ``progress(done, total)`` as frames are done.
     note : callable, optional
         Told when the inputs differ in length (the shortest ends the output).
+    identity, resume, jobs, dask, segment_seconds
+        As :func:`spherewarp.io.segments.render_segmented` (``identity``: what decides
+        ``combine``'s pixels).
 
     Raises
     ------
     ImageFormatError, InvalidValueError, OutputExistsError
         For a bad input, output or option; nothing is written then.
     """
-    from .videowriter import video_writer
+    import json
 
-    inputs = [Path(p) for p in inputs]
+    from .atomic import exists_error
+    from .segments import (
+        DEFAULT_SEGMENT_SECONDS,
+        Segmented,
+        _input_identity,
+        frame_times,
+        join,
+        plan_segments,
+        run_segments,
+    )
+    from .spherical import write_spherical
+    from .video import muxer
+    from .videowriter import check_writer
+
+    paths = [os.path.abspath(p) for p in inputs]
     output = Path(output)
-    infos, n, differ = check_clips(inputs, force)
+    if not overwrite and os.path.lexists(output):
+        raise exists_error(output)
+    infos, n, differ = check_clips([Path(p) for p in inputs], force)
+    times = [frame_times(p) for p in paths]
+    count = min(len(pts) for pts, _ in times)
+    n = min(n, count) if n else count
+    if n == 0:
+        raise InvalidValueError(f"'{inputs[0]}' has no frames to combine")
     if differ is not None and note is not None:
         note(differ)
     first = infos[0]
+    rate, tb = first.rate or Fraction(24), times[0][1]
     out_pix = _pick_pix_fmt(
         _encoder(default_codec(output) if codec is None else codec), first.pix_fmt, pix_fmt
     )
     rgb = "rgb48le" if _depth(out_pix) > 8 else "rgb24"
-    containers = [_open(p) for p in inputs]
-    try:
-        for c in containers:
-            c.streams.video[0].thread_type = "AUTO"
-        decoders = [c.decode(video=0) for c in containers]
-        vin = containers[0].streams.video[0]
-        rate = first.rate or vin.guessed_rate
-        writer_cm = None
-        done = 0
-        while n == 0 or done < n:
-            frames = [next(d, None) for d in decoders]
-            if any(f is None for f in frames):
-                break
-            out = combine([f.to_ndarray(format=rgb) for f in frames])
-            lead = frames[0]
-            if writer_cm is None:  # the size is the first combined frame's
-                writer_cm = video_writer(
-                    output, out.shape[:2], rate, time_base=vin.time_base, codec=codec, crf=crf,
-                    preset=preset, pix_fmt=pix_fmt, in_pix=first.pix_fmt, overwrite=overwrite,
-                    spherical=spherical, audio_from=inputs[0],
-                    end=None if differ is None else float(n / rate),
-                )  # fmt: skip
-                writer = writer_cm.__enter__()
-            writer.write(out, lead.pts, lead.time_base)
-            done += 1
-            if progress is not None:
-                progress(done, n)
-        if writer_cm is None:
-            raise InvalidValueError(f"'{inputs[0]}' has no frames to combine")
-    except BaseException as exc:
-        if writer_cm is not None:
-            writer_cm.__exit__(type(exc), exc, exc.__traceback__)
-        raise
+    containers = [_open(p) for p in paths]
+    try:  # the first frames: the size (and whatever combine settles on them)
+        lead = [next(d) for d in _decoders(containers, [pts[0] for pts, _ in times], False)]
+        size = combine([f.to_ndarray(format=rgb) for f in lead]).shape[:2]
     finally:
         for c in containers:
             c.close()
-    writer_cm.__exit__(None, None, None)
-    return done
+    enc, out_pix, _, _ = check_writer(
+        output, size, rate, time_base=tb, codec=codec, crf=crf, preset=preset, pix_fmt=pix_fmt,
+        in_pix=first.pix_fmt,
+    )  # fmt: skip
+    encoding = {"codec": enc.name, "crf": crf, "preset": preset, "pix_fmt": out_pix}
+    lead_pts = times[0][0]
+    step = max(1, round((segment_seconds or DEFAULT_SEGMENT_SECONDS) * float(rate)))
+    ranges = plan_segments(lead_pts[:n], step)
+
+    def job(i: int, part: str) -> ClipsJob:
+        a, b = ranges[i]
+        return ClipsJob(
+            index=i, part=part, inputs=paths, starts=[pts[a] for pts, _ in times],
+            frames=b - a, combine=combine, rgb=rgb, size=size, rate=rate, time_base=tb,
+            encoding=encoding, in_pix=first.pix_fmt,
+        )  # fmt: skip
+
+    end = None if differ is None else float(n / rate)
+
+    def join_parts(parts: list[Path], tmp: Path) -> None:
+        join(parts, Path(paths[0]), tmp, muxer(output), end=end)
+        write_spherical(tmp, spherical)
+
+    full = json.dumps(
+        {"identity": identity, "encoding": encoding, "in_pix": first.pix_fmt, "size": size,
+         "frames": n, "spherical": repr(spherical)},
+        sort_keys=True, default=str,
+    )  # fmt: skip
+    segments = [
+        {"index": i, "start": a, "end": b, "start_pts": [pts[a] for pts, _ in times]}
+        for i, (a, b) in enumerate(ranges)
+    ]
+    plan = Segmented(
+        output=output, source=[_input_identity(p) for p in paths],
+        name=", ".join(str(p) for p in inputs), identity=full, segments=segments, job=job,
+        render=render_clips_segment, join=join_parts, reads=paths,
+    )  # fmt: skip
+    run_segments(plan, resume=resume, jobs=jobs, dask=dask, overwrite=overwrite,
+                 progress=progress)  # fmt: skip
+    return n

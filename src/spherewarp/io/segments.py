@@ -802,10 +802,12 @@ def _when(packet: Any) -> Fraction:
     return t * packet.time_base
 
 
-def join(parts: list[Path], input: Path | None, output: Path, format: str) -> None:
+def join(
+    parts: list[Path], input: Path | None, output: Path, format: str, end: float | None = None
+) -> None:
     """Join the segment files ``parts`` (in order) into ``output`` without re-encoding, with
     the copyable streams of ``input`` (its audio; None: no input) muxed back, packets as
-    they are."""
+    they are (up to ``end`` seconds when given: the rest is left out)."""
     import heapq
 
     import av
@@ -831,6 +833,8 @@ def join(parts: list[Path], input: Path | None, output: Path, format: str) -> No
             def rest() -> Iterator[tuple[Fraction, int, int, Any]]:
                 if others:
                     for k, p in enumerate(_packets(src, others)):
+                        if end is not None and p.pts is not None and p.pts * p.time_base > end:
+                            return
                         yield _when(p), 1, k, p
 
             for _, source, _, packet in heapq.merge(video(), rest(), key=lambda x: x[:3]):
