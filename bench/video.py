@@ -2,7 +2,7 @@
 and the peak memory of a 1-minute clip.
 
     python bench/video.py [--size 3840x1920] [--frames 48] [--repeat 2]
-    python bench/video.py --memory [--memory-size 1280x640]
+    python bench/video.py --memory [--memory-size 1280x640] [--memory-seconds 10,60]
 
 Generates a clip (the bundled panorama turning, H.264), then in one run times
 ``spherewarp video IN -o OUT rotate --yaw 30`` and ``ffmpeg -i IN -vf
@@ -14,7 +14,8 @@ shared machine the fairer measure of work), and the in-process cost of the
 warp stage per frame, warping the 4:2:0 planes as they are against going
 through RGB (``render_video(planar=False)``). Needs the ``ffmpeg`` command.
 
-``--memory`` renders a 10-second and a 60-second clip of the same size, each
+``--memory`` renders a 10-second and a 60-second clip of the same size (or the
+``--memory-seconds`` given), each
 in a fresh process, and prints each one's peak resident memory (the most any
 child process held: ``getrusage(RUSAGE_CHILDREN).ru_maxrss``); it asserts the
 design: the minute costs no more than a few frames over the 10 seconds (the
@@ -123,7 +124,7 @@ def warp_stage(clip: Path, frames: int = 4) -> dict[str, tuple[float, float]]:
 def memory(a: argparse.Namespace, d: Path) -> None:
     w, h = (int(x) for x in a.memory_size.split("x"))
     rows = []
-    for seconds in (10, 60):
+    for seconds in (int(x) for x in a.memory_seconds.split(",")):
         clip, out = d / f"m{seconds}.mp4", d / f"m{seconds}-out.mp4"
         make_clip(clip, w, h, 24 * seconds)
         cmd = [sys.executable, "-m", "spherewarp", "video", str(clip), "-o", str(out), "--quiet"]
@@ -133,8 +134,11 @@ def memory(a: argparse.Namespace, d: Path) -> None:
     print(f"{w}x{h}, libx264 CRF 18 ultrafast, peak resident memory (one fresh process each)")
     for seconds, rss in rows:
         print(f"  {seconds:3d} s ({24 * seconds:5d} frames): {rss / 2**20:7.1f} MiB")
-    grown = rows[1][1] - rows[0][1]
-    print(f"  the minute over the 10 s: {grown / 2**20:+.1f} MiB = {grown / frame:+.1f} RGB frames")
+    grown = rows[-1][1] - rows[0][1]
+    print(
+        f"  {rows[-1][0]} s over {rows[0][0]} s: {grown / 2**20:+.1f} MiB = "
+        f"{grown / frame:+.1f} RGB frames"
+    )
     assert grown < 8 * frame, "memory grows with the length: frames are being held"
 
 
@@ -145,6 +149,7 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--memory", action="store_true", help="peak memory of a 1-minute clip")
     ap.add_argument("--memory-size", default="1280x640")
+    ap.add_argument("--memory-seconds", default="10,60", help="clip lengths, shortest first")
     a = ap.parse_args()
     w, h = (int(x) for x in a.size.split("x"))
     d = Path(tempfile.mkdtemp())

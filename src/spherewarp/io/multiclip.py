@@ -79,13 +79,14 @@ def render_clips(
     spherical: Spherical | None = EQUIRECT,
     progress: Callable[[int, int], None] | None = None,
     note: Callable[[str], None] | None = None,
+    timed: bool = False,
 ) -> int:
     """Combine frame k of every input into frame k of ``output``; return the frames written.
 
     Parameters
     ----------
     inputs : paths
-        Two or more videos with one frame rate.
+        Videos with one frame rate (two or more for a split screen).
     output : path
         The video to write (``.mp4``, ``.mov``, ``.m4v``, ``.mkv``, ``.webm``).
     combine : callable
@@ -101,6 +102,8 @@ def render_clips(
         ``progress(done, total)`` after each frame.
     note : callable, optional
         Told when the inputs differ in length (the shortest ends the output).
+    timed : bool
+        Call ``combine(frames, t)`` with the first input's frame time ``t`` (seconds).
 
     Raises
     ------
@@ -132,8 +135,13 @@ def render_clips(
             frames = [next(d, None) for d in decoders]
             if any(f is None for f in frames):
                 break
-            out = combine([f.to_ndarray(format=rgb) for f in frames])
             lead = frames[0]
+            arrays = [f.to_ndarray(format=rgb) for f in frames]
+            if timed:
+                t = lead.pts * lead.time_base if lead.pts is not None else done / rate
+                out = combine(arrays, float(t))  # type: ignore[call-arg]
+            else:
+                out = combine(arrays)
             if writer_cm is None:  # the size is the first combined frame's
                 writer_cm = video_writer(
                     output, out.shape[:2], rate, time_base=vin.time_base, codec=codec, crf=crf,
