@@ -270,3 +270,31 @@ def test_a_stereo_view_says_only_its_layout(tmp_path):
         pytest.skip("ffprobe is not installed")
     sides = ffprobe_side_data(out)
     assert sides["Stereo 3D"]["type"] == "top and bottom" and "Spherical Mapping" not in sides
+
+
+@pytest.mark.parametrize("where", ["produce", "work", "consume", "finish"])
+def test_the_pipeline_stops_at_the_first_error(where):
+    import threading
+
+    from spherewarp.io.video import pipeline
+
+    def boom(*_):
+        raise ValueError(where)
+
+    def produce():
+        for k in range(1000):
+            if where == "produce" and k == 5:
+                boom()
+            yield k
+
+    got = []
+    before = threading.active_count()
+    with pytest.raises(ValueError, match=where):
+        pipeline(
+            produce(),
+            boom if where == "work" else (lambda x: x),
+            boom if where == "consume" else got.append,
+            boom if where == "finish" else None,
+        )
+    assert threading.active_count() == before  # both threads ended
+    assert len(got) < 1000 or where == "finish"
