@@ -166,7 +166,7 @@ class PlaneTaps:
         s = [p[src_offset:] for p in src]
         d = [p[dst_offset:] for p in dst]
         s2, d2 = s[-1], d[-1]
-        args = (s[0], s2, d[0], d2, dpitch, rows, cols, a, b, wt, self.in_shape[1], len(src))
+        args = (s[0], s2, d[0], d2, pitch, dpitch, rows, cols, a, b, wt, self.in_shape[1], len(src))
         fast._run(pk.plane_taps, args, self.plan.threads, rows)
         if self._holes:
             at = dst_offset + self._holes[0] * dpitch + self._holes[1]
