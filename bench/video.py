@@ -1,13 +1,13 @@
 """spherewarp video against ffmpeg's v360 filter: frames a second, end to end, as a ratio;
 and the peak memory of a 1-minute clip.
 
-    python bench/video.py [--size 3840x1920] [--frames 48] [--repeat 2]
+    python bench/video.py [--size 3840x1920] [--frames 48] [--repeat 2] [--pitch 0]
     python bench/video.py --memory [--memory-size 1280x640] [--memory-seconds 10,60]
 
 Generates a clip (the bundled panorama turning, H.264), then in one run times
-``spherewarp video IN -o OUT rotate --yaw 30`` and ``ffmpeg -i IN -vf
-v360=e:e:yaw=30 OUT`` with the same encoder settings (libx264, CRF 18,
-preset ultrafast, so that the warp dominates), each the minimum of
+``spherewarp video IN -o OUT rotate --yaw 30 --pitch P`` and ``ffmpeg -i IN -vf
+v360=e:e:yaw=30:pitch=P OUT`` (``--pitch``, default 0) with the same encoder
+settings (libx264, CRF 18, preset ultrafast, so that the warp dominates), each the minimum of
 ``--repeat`` runs, as separate processes. Prints frames a second for each and
 their ratio, and the CPU seconds each spent (user + system, all threads: on a
 shared machine the fairer measure of work), and the in-process cost of the
@@ -85,7 +85,7 @@ def peak_rss(cmd: list[str]) -> int:
     return int(done.stdout.split()[-1]) * 1024  # Linux: kilobytes
 
 
-def warp_stage(clip: Path, frames: int = 4) -> dict[str, tuple[float, float]]:
+def warp_stage(clip: Path, frames: int = 4, pitch: float = 0.0) -> dict[str, tuple[float, float]]:
     """Wall and CPU milliseconds a frame of the warp stage, by plane and through RGB (and
     the RGB path's conversion back to yuv420p, which the encoder does)."""
     import av
@@ -94,7 +94,7 @@ def warp_stage(clip: Path, frames: int = 4) -> dict[str, tuple[float, float]]:
     from spherewarp.io.stereo import FramePlan
     from spherewarp.maps import Mobius
 
-    turn = Mobius.from_yaw_pitch_roll(30, 0, 0)
+    turn = Mobius.from_yaw_pitch_roll(30, pitch, 0)
     with av.open(str(clip)) as c:
         got = [f for _, f in zip(range(frames), c.decode(video=0), strict=False)]
     shape = (got[0].height, got[0].width)
@@ -147,6 +147,13 @@ def main() -> None:
     ap.add_argument("--size", default="3840x1920")
     ap.add_argument("--frames", type=int, default=48)
     ap.add_argument("--repeat", type=int, default=2)
+    ap.add_argument(
+        "--pitch",
+        type=float,
+        default=0.0,
+        help="the turn's pitch too (0: a yaw alone, which "
+        "takes rows to rows, so that spherewarp skips the lower taps)",
+    )
     ap.add_argument("--memory", action="store_true", help="peak memory of a 1-minute clip")
     ap.add_argument("--memory-size", default="1280x640")
     ap.add_argument("--memory-seconds", default="10,60", help="clip lengths, shortest first")
@@ -167,19 +174,21 @@ def main() -> None:
         clip, out = d / f"in{frames}.mp4", d / "out.mp4"
         make_clip(clip, w, h, frames)
         ours = [sys.executable, "-m", "spherewarp", "video", str(clip), "-o", str(out), "--quiet"]
-        ours += [*enc, "rotate", "--yaw", "30"]
-        theirs = [ffmpeg, "-y", "-v", "error", "-i", str(clip), "-vf", "v360=e:e:yaw=30"]
+        ours += [*enc, "rotate", "--yaw", "30", "--pitch", f"{a.pitch:g}"]
+        v360 = f"v360=e:e:yaw=30:pitch={a.pitch:g}"
+        theirs = [ffmpeg, "-y", "-v", "error", "-i", str(clip), "-vf", v360]
         theirs += ["-c:v", "libx264", "-crf", "18", "-preset", "ultrafast", str(out)]
         runs["ours", frames] = timed(ours, out, a.repeat)
         runs["v360", frames] = timed(theirs, out, a.repeat)
     print(f"{w}x{h}, libx264 CRF 18 ultrafast, minimum of {a.repeat} runs")
     print(f"  {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f} at the end")
-    names = {"ours": "spherewarp video rotate --yaw 30", "v360": "ffmpeg -vf v360=e:e:yaw=30"}
+    turn = f"--yaw 30 --pitch {a.pitch:g}"
+    names = {"ours": f"spherewarp video rotate {turn}", "v360": f"ffmpeg -vf {v360}"}
     for key, name in names.items():
         for frames in (n, 2 * n):
             t, c = runs[key, frames]
             fps = frames / t
-            print(f"  {name:33s} {frames:4d} frames: {fps:6.2f} fps ({t:6.2f} s, {c:5.1f} CPU s)")
+            print(f"  {name:44s} {frames:4d} frames: {fps:6.2f} fps ({t:6.2f} s, {c:5.1f} CPU s)")
     (t1, c1), (t2, c2) = runs["ours", n], runs["ours", 2 * n]
     (f1, g1), (f2, g2) = runs["v360", n], runs["v360", 2 * n]
     print(
@@ -190,7 +199,7 @@ def main() -> None:
         f"  ratio, a frame more (the {n} frames between the two runs, start-up and planning "
         f"aside): {(f2 - f1) / (t2 - t1):.2f} wall, {(g2 - g1) / (c2 - c1):.2f} CPU"
     )
-    stage = warp_stage(clip)
+    stage = warp_stage(clip, pitch=a.pitch)
     print("  warp stage a frame (in process; the RGB path with its conversion back to yuv420p):")
     for name, (wall, cpu) in stage.items():
         print(f"    {name:6s}: {wall:6.1f} ms wall, {cpu:6.1f} ms CPU")

@@ -78,6 +78,8 @@ MAPS = [
     Mobius.from_yaw_pitch_roll(30, 20, 10),
     Mobius.zoom((10, 20), 1.5),
     Mobius.from_yaw_pitch_roll(0, 90, 0),  # the poles and the seam in every row
+    Mobius.from_yaw_pitch_roll(45, 0, 0),  # rows to rows, whole pixels: one tap a pixel
+    Mobius.from_yaw_pitch_roll(12.3, 0, 0),  # rows to rows: the lower taps weigh nothing
 ]
 
 

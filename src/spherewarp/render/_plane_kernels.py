@@ -15,7 +15,10 @@ a pole): only there is ``B`` read, 6 bytes a pixel elsewhere. As it compiles
 changes (``plan._drop_stale_grid_cache``).
 
 :func:`plane_taps` samples one or two planes (U and V share a table) through a
-table: four byte loads, the 8.8 fixed-point blend of ``_kernels.blend_u8``.
+table: four byte loads, the 8.8 fixed-point blend of ``_kernels.blend_u8``
+(the taps that weigh nothing are not loaded: the lower ones where the map takes
+rows to rows, as a turn about the vertical axis does; the right ones too at
+whole pixels).
 The work is split by output rows: worker ``wk`` of ``nw`` (see ``fast._run``).
 Reading the frame's planes in place (their own row pitch) and writing the
 output frame's, it needs no copies.
@@ -74,6 +77,11 @@ def _blend(src, a, b, wrap, pitch, ux, tx, uy, ty):
     Unsigned indices: no negative-index checks in the loop."""
     if a >= 0 and a < _OWN_B:
         i = np.uint32(a)
+        if ty == np.uint32(0):  # the lower taps weigh nothing (a map of rows to rows)
+            if tx == np.uint32(0):
+                return src[i]  # (p0 * 65536 + 32768) >> 16
+            top = np.uint32(src[i]) * ux + np.uint32(src[i + np.uint32(1)]) * tx
+            return np.uint8((top * np.uint32(256) + np.uint32(32768)) >> np.uint32(16))
         j = i + pitch
         p0, p1 = np.uint32(src[i]), np.uint32(src[i + np.uint32(1)])
         q0, q1 = np.uint32(src[j]), np.uint32(src[j + np.uint32(1)])
