@@ -195,10 +195,12 @@ def _run_whole(
             )
     if (o.get("stereo") or "mono").lower() != "mono":
         raise click.BadParameter("--view log and --inside take mono video", param_hint="--stereo")
-    if o.get("resume") or o.get("jobs", 1) != 1 or o.get("segment") is not None:
-        raise click.BadParameter(
-            "--view log and --inside render in one piece (no segments)", param_hint="--resume"
-        )
+    for name in ("resume", "jobs", "segment"):
+        if o.get(name) not in (None, False, 1):
+            raise click.BadParameter(
+                "--view log and --inside render in one piece (no segments)",
+                param_hint=f"--{name}",
+            )
     job().reads(o["input"], "input")
     job().writes(o["output"], "-o")
     extra = [load_input(p, None, "--inside image").pixels for p in inside]
