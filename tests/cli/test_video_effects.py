@@ -119,6 +119,20 @@ def test_droste_log_view_and_inside_frames_equal_the_still_command(clip, workdir
     assert (probe("d.mp4").spherical is not None) == ("--inside" in extra)  # log: flat
 
 
+def test_droste_inside_and_log_view_refuse_bad_input(clip, workdir):
+    write_image(workdir / "square.png", np.zeros((32, 32, 3), np.uint8), overwrite=True)
+    for extra, said in [
+        (["--inside", "missing.png"], "cannot read 'missing.png'"),
+        (["--inside", "square.png"], "square.png: expected an equirectangular image"),
+        (["--view", "log", "--jobs", "2"], "--jobs"),
+    ]:
+        video, effect = (["--jobs", "2"], extra[:2]) if "--jobs" in extra else ([], extra)
+        code, _, err = run(None, "video", clip.name, "-o", "x.mp4", *video, "droste", *DROSTE,
+                           *effect)  # fmt: skip
+        assert code == 2 and said in err and err.count("\n") == 1, err
+        assert "Traceback" not in err and not (workdir / "x.mp4").exists()
+
+
 def frames_of_plain(clip, workdir):
     ok(None, "video", clip.name, "-o", "plain.mp4", "-q", "droste", *DROSTE)
     return frames(workdir / "plain.mp4")

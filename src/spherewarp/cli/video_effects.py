@@ -167,6 +167,18 @@ def _like(pixels: Any, frame: Any) -> Any:
     return np.ascontiguousarray(convert_dtype(pixels[..., :3], frame.dtype))
 
 
+def _inside_image(path: Path, force: bool) -> Any:
+    """The pixels of an --inside image (registered as read), 2:1 unless ``force``."""
+    from ..io import read_image
+    from ..render.warp import check_equirect
+    from ._files import job
+
+    job().reads(path, "--inside image")
+    pixels = read_image(path).pixels
+    check_equirect(pixels, force=force, name=str(path))
+    return pixels
+
+
 def _run_whole(
     ctx: click.Context, recipe: Any, inside: tuple[Path, ...], output_: Any, overwrite_: bool
 ) -> None:
@@ -178,7 +190,6 @@ def _run_whole(
     from ..io.multiclip import render_clips
     from ..io.sequence import is_frames
     from ..io.spherical import Spherical
-    from ._common import load_input
     from ._files import job
     from .video_cmds import _Bar, _check_video_output, _take_output
 
@@ -203,11 +214,13 @@ def _run_whole(
             )
     job().reads(o["input"], "input")
     job().writes(o["output"], "-o")
-    extra = [load_input(p, None, "--inside image").pixels for p in inside]
+    extra = [_inside_image(p, o["force"]) for p in inside]
     frame0 = recipe.at(0.0)
     kwargs: dict[str, Any] = {}
     if o.get("size") is not None:  # WxH: the equirectangular output's; a log plane's height
         kwargs["output_shape"] = (o["size"][1], o["size"][0])
+    if o["force"]:
+        kwargs["force"] = True
 
     def combine(frames: list[Any], t: float) -> Any:
         img = frames[0]
