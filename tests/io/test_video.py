@@ -298,3 +298,23 @@ def test_the_pipeline_stops_at_the_first_error(where):
         )
     assert threading.active_count() == before  # both threads ended
     assert len(got) < 1000 or where == "finish"
+
+
+def test_a_static_map_is_planned_once_for_all_segments(tmp_path, monkeypatch):
+    import spherewarp.io.video as video
+    from spherewarp.io.segments import frame_times, render_segmented
+    from videoclip import make_clip
+
+    made = []
+
+    def counted(*args, **kwargs):
+        made.append(args[1])
+        return plan_of(*args, **kwargs)
+
+    plan_of = video.frame_plan
+    monkeypatch.setattr(video, "frame_plan", counted)
+    clip = make_clip(tmp_path / "in.mp4", frames=12, audio=False)
+    turn = Mobius.from_yaw_pitch_roll(30, 0, 0).inverse()
+    render_segmented(clip, tmp_path / "out.mp4", lambda t: (turn, {}), segment_seconds=0.125)
+    assert len(frame_times(tmp_path / "out.mp4")[0]) == 12
+    assert len(made) == 1  # 4 segments of 3 frames, one plan

@@ -178,8 +178,9 @@ def _kept_plan(s: Settings, key: tuple[Any, ...], make_plan: Callable[..., Any])
     if _KEPT and _KEPT[0]() is s and _KEPT[1][0] is key[0] and _KEPT[1][1:] == key[1:]:
         return _KEPT[2]
     plan = make_plan(key[0], key[1], key[2])
+    if not (_KEPT and _KEPT[0]() is s):  # once a render (a timed map makes a plan a frame)
+        weakref.finalize(s, _KEPT.clear)
     _KEPT[:] = [weakref.ref(s), key, plan]
-    weakref.finalize(s, _KEPT.clear)
     return plan
 
 
