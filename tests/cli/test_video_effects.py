@@ -12,7 +12,7 @@ from _cli import ok, run
 
 from spherewarp.io import read_image, write_image
 from spherewarp.io.video import probe
-from videoclip import make_clip
+from videoclip import make_clip, panorama
 
 av = pytest.importorskip("av")
 ffprobe = shutil.which("ffprobe")
@@ -94,7 +94,48 @@ def test_the_generated_commands_take_the_still_commands_checks(clip, workdir):
     assert code == 2 and "--to NAME" in err
     assert not (workdir / "x.mp4").exists()
     out = ok(None, "video", clip.name, "droste", "--help")
-    assert "--inner-radius" in out and "--loop" in out and "--periods" not in out
+    assert "--inner-radius" in out and "--loop" in out and "--periods" in out
+    assert "--view" in out and "--inside" in out
+
+
+@pytest.mark.parametrize(
+    "extra", [["--view", "log"], ["--inside", "other.png"]], ids=["view-log", "inside"]
+)
+def test_droste_log_view_and_inside_frames_equal_the_still_command(clip, workdir, extra):
+    write_image(workdir / "other.png", panorama("courtyard.png"), overwrite=True)
+    # the log plane's period rectangle is drawn 1 pixel wide in red: 4:2:0 chroma cannot
+    # hold it, so that video keeps its chroma whole (4:4:4) and nearly lossless
+    enc = ["--pix-fmt", "yuv444p", "--crf", "1"] if "--view" in extra else []
+    ok(None, "video", clip.name, "-o", "d.mp4", "-q", *enc, "droste", *DROSTE, *extra)
+    src, out = frames(clip), frames("d.mp4")
+    assert len(out) == len(src) == 12
+    for k in (0, 7):
+        ref = rendered("droste", still_of(workdir, src[k]), *DROSTE, *extra)
+        h, w = out[k].shape[:2]  # a flat log plane of odd sides loses its last row/column
+        assert (ref.shape[0] - h, ref.shape[1] - w) in ((0, 0), (0, 1), (1, 0), (1, 1))
+        assert psnr(ref[:h, :w], out[k]) >= 35, k
+    if "--inside" in extra:  # the copies show the other panorama: not the plain Droste
+        assert psnr(out[7], frames_of_plain(clip, workdir)[7]) < 30
+    assert (probe("d.mp4").spherical is not None) == ("--inside" in extra)  # log: flat
+
+
+def test_droste_inside_and_log_view_refuse_bad_input(clip, workdir):
+    write_image(workdir / "square.png", np.zeros((32, 32, 3), np.uint8), overwrite=True)
+    for extra, said in [
+        (["--inside", "missing.png"], "cannot read 'missing.png'"),
+        (["--inside", "square.png"], "square.png: expected an equirectangular image"),
+        (["--view", "log", "--jobs", "2"], "--jobs"),
+    ]:
+        video, effect = (["--jobs", "2"], extra[:2]) if "--jobs" in extra else ([], extra)
+        code, _, err = run(None, "video", clip.name, "-o", "x.mp4", *video, "droste", *DROSTE,
+                           *effect)  # fmt: skip
+        assert code == 2 and said in err and err.count("\n") == 1, err
+        assert "Traceback" not in err and not (workdir / "x.mp4").exists()
+
+
+def frames_of_plain(clip, workdir):
+    ok(None, "video", clip.name, "-o", "plain.mp4", "-q", "droste", *DROSTE)
+    return frames(workdir / "plain.mp4")
 
 
 def test_splitscreen_of_two_clips(workdir):

@@ -71,3 +71,108 @@ def test_a_plain_equirect_grid_takes_the_planes_path_at_their_sizes():
     assert isinstance(plan, PlanarPlan) and plan.chroma.out_shape == (16, 32)
     f = av.VideoFrame.from_ndarray(np.full((48, 64), 128, np.uint8), format="yuv420p")
     assert plan.apply(f).to_ndarray().shape == (48, 64)
+
+
+# -- PlaneTaps: the compiled warp of 8-bit planes in place -------------------------------------
+def _holes(monkeypatch):
+    """Make the one-tap plans leave the pixels whose source is left of column 3 undefined
+    (no cached map of this library leaves any; undefined pixels must still be black)."""
+    from spherewarp.render.plan import Plan
+
+    source = Plan.source
+
+    def holed(self, r0, r1):
+        u, v, ok = source(self, r0, r1)
+        return u, v, np.where(u < 2.5, 0, ok).astype(np.uint8)
+
+    monkeypatch.setattr(Plan, "source", holed)
+
+
+MAPS = [
+    Mobius.from_yaw_pitch_roll(30, 20, 10),
+    Mobius.zoom((10, 20), 1.5),
+    Mobius.from_yaw_pitch_roll(0, 90, 0),  # the poles and the seam in every row
+    Mobius.from_yaw_pitch_roll(45, 0, 0),  # rows to rows, whole pixels: one tap a pixel
+    Mobius.from_yaw_pitch_roll(12.3, 0, 0),  # rows to rows: the lower taps weigh nothing
+]
+
+
+@pytest.mark.parametrize("holes", [False, True])
+@pytest.mark.parametrize("shape", [(16, 32), (50, 100)])
+def test_plane_taps_equal_warpmap_bit_for_bit(monkeypatch, shape, holes):
+    from spherewarp.io.planes import PlaneTaps
+    from spherewarp.render import WarpMap
+
+    if holes:
+        _holes(monkeypatch)
+    rng = np.random.default_rng(0)
+    h, w = shape
+    for m in MAPS:
+        wm = WarpMap(m, shape, antialias="none")
+        assert wm.n_special > 0 or not holes
+        taps = PlaneTaps.of(wm.plan)
+        planes = [rng.integers(0, 256, shape, dtype=np.uint8) for _ in range(2)]
+        pitch, dpitch = w + 7, w + 3  # rows padded, as a decoded frame's may be
+        src = [np.zeros(h * pitch + 5, np.uint8) for _ in planes]
+        for buf, p in zip(src, planes, strict=True):
+            buf[: h * pitch].reshape(h, pitch)[:, :w] = p
+        dst = [np.full(h * dpitch, 7, np.uint8) for _ in planes]
+        taps.apply(src, pitch, dst, dpitch, background=16)
+        for out, p in zip(dst, planes, strict=True):
+            got = out.reshape(h, dpitch)
+            assert np.array_equal(got[:, :w], wm.apply(p, background=16)[..., 0])
+            assert np.all(got[:, w:] == 7)  # the padding is left alone
+
+
+def test_plane_taps_are_taken_only_for_cached_bilinear_plans():
+    from spherewarp.io.planes import PlaneTaps
+    from spherewarp.render import WarpMap
+
+    turn = Mobius.from_yaw_pitch_roll(30, 0, 0)
+    assert PlaneTaps.of(WarpMap(turn, (16, 32)).plan) is not None
+    assert PlaneTaps.of(WarpMap(turn, (16, 32), interp="bicubic").plan) is None
+    assert PlaneTaps.of(WarpMap(ZOOM, (16, 32)).plan) is None  # the area filter
+    assert PlaneTaps.of(None) is None
+
+
+@pytest.mark.parametrize("stereo", ["mono", "tb", "sbs"])
+def test_planes_in_place_equal_planes_through_arrays(stereo):
+    turn = Mobius.from_yaw_pitch_roll(30, 20, 0).inverse()
+
+    def make(shape, out):
+        return FramePlan(turn, shape, stereo=stereo, out_shape=out, lazy=True)
+
+    shape = {"mono": (32, 64), "tb": (64, 64), "sbs": (32, 128)}[stereo]
+    plan = frame_plan(make, shape, "yuv420p", "yuv420p", "rgb24")
+    assert isinstance(plan, PlanarPlan) and plan.taps is not None
+    h, w = shape
+    data = np.random.default_rng(2).integers(0, 256, (h * 3 // 2, w), dtype=np.uint8)
+    f = av.VideoFrame.from_ndarray(data, format="yuv420p")
+    got = plan.apply(f).to_ndarray()
+    assert np.array_equal(got, plan._apply_arrays(f, (16, 128)))
+
+
+@pytest.mark.parametrize(
+    ("pix", "black"),
+    [("yuv420p", (16, 128)), ("yuvj420p", (0, 128)), ("yuv420p10le", (64, 512))],
+)
+def test_undefined_pixels_are_black_not_green(monkeypatch, pix, black):
+    _holes(monkeypatch)
+    turn = Mobius.from_yaw_pitch_roll(30, 0, 0).inverse()
+
+    def make(shape, out):
+        return FramePlan(turn, shape, out_shape=out, lazy=True)
+
+    plan = frame_plan(make, (32, 64), pix, pix, "rgb24")
+    assert isinstance(plan, PlanarPlan) and (plan.taps is not None) == (pix != "yuv420p10le")
+    dtype = np.uint16 if "10" in pix else np.uint8
+    f = av.VideoFrame.from_ndarray(
+        np.full((48, 64), 300 if "10" in pix else 200, dtype), format=pix
+    )
+    out = plan.apply(f).to_ndarray()
+    hole = plan.luma.plan.source(0, 32)[2] == 0
+    assert hole.any() and not hole.all()
+    y, uv = out[:32], out[32:].reshape(2, 16, 32)
+    assert np.all(y[hole] == black[0]) and np.all(y[~hole] != black[0])
+    chole = plan.chroma.plan.source(0, 16)[2] == 0
+    assert chole.any() and np.all(uv[:, chole] == black[1])

@@ -270,3 +270,51 @@ def test_a_stereo_view_says_only_its_layout(tmp_path):
         pytest.skip("ffprobe is not installed")
     sides = ffprobe_side_data(out)
     assert sides["Stereo 3D"]["type"] == "top and bottom" and "Spherical Mapping" not in sides
+
+
+@pytest.mark.parametrize("where", ["produce", "work", "consume", "finish"])
+def test_the_pipeline_stops_at_the_first_error(where):
+    import threading
+
+    from spherewarp.io.video import pipeline
+
+    def boom(*_):
+        raise ValueError(where)
+
+    def produce():
+        for k in range(1000):
+            if where == "produce" and k == 5:
+                boom()
+            yield k
+
+    got = []
+    before = threading.active_count()
+    with pytest.raises(ValueError, match=where):
+        pipeline(
+            produce(),
+            boom if where == "work" else (lambda x: x),
+            boom if where == "consume" else got.append,
+            boom if where == "finish" else None,
+        )
+    assert threading.active_count() == before  # both threads ended
+    assert len(got) < 1000 or where == "finish"
+
+
+def test_a_static_map_is_planned_once_for_all_segments(tmp_path, monkeypatch):
+    import spherewarp.io.video as video
+    from spherewarp.io.segments import frame_times, render_segmented
+    from videoclip import make_clip
+
+    made = []
+
+    def counted(*args, **kwargs):
+        made.append(args[1])
+        return plan_of(*args, **kwargs)
+
+    plan_of = video.frame_plan
+    monkeypatch.setattr(video, "frame_plan", counted)
+    clip = make_clip(tmp_path / "in.mp4", frames=12, audio=False)
+    turn = Mobius.from_yaw_pitch_roll(30, 0, 0).inverse()
+    render_segmented(clip, tmp_path / "out.mp4", lambda t: (turn, {}), segment_seconds=0.125)
+    assert len(frame_times(tmp_path / "out.mp4")[0]) == 12
+    assert len(made) == 1  # 4 segments of 3 frames, one plan

@@ -40,19 +40,28 @@ def test_entry_points_are_the_kernels_python_calls():
     assert called == set(_warmup.ENTRY_POINTS)
 
 
-def test_grid_entry_points_are_the_grid_kernels():
+def _own_kernels(module):
     from numba.core.dispatcher import Dispatcher
 
-    from spherewarp.render import _grid_kernels
-
-    entries = {
+    return {
         name
-        for name, f in vars(_grid_kernels).items()
+        for name, f in vars(module).items()
         if isinstance(f, Dispatcher)
-        and f.__module__ == _grid_kernels.__name__
+        and f.__module__ == module.__name__
         and not name.startswith("_")
     }
-    assert entries == set(_warmup.GRID_ENTRY_POINTS)
+
+
+def test_grid_entry_points_are_the_grid_kernels():
+    from spherewarp.render import _grid_kernels
+
+    assert _own_kernels(_grid_kernels) == set(_warmup.GRID_ENTRY_POINTS)
+
+
+def test_plane_entry_points_are_the_plane_kernels():
+    from spherewarp.render import _plane_kernels
+
+    assert _own_kernels(_plane_kernels) == set(_warmup.PLANE_ENTRY_POINTS)
 
 
 def test_grid_codes_agree():
@@ -65,7 +74,8 @@ def test_grid_codes_agree():
 
 def test_warmup_compiles_every_entry_point():
     counts = _warmup.run()  # loads the cache where it fits (compiles once otherwise)
-    assert set(counts) == set(_warmup.ENTRY_POINTS) | set(_warmup.GRID_ENTRY_POINTS)
+    every = (*_warmup.ENTRY_POINTS, *_warmup.GRID_ENTRY_POINTS, *_warmup.PLANE_ENTRY_POINTS)
+    assert set(counts) == set(every)
     assert all(n >= 1 for n in counts.values()), counts
 
 

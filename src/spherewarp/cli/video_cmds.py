@@ -225,6 +225,24 @@ def _outputs(func: Any) -> Any:
     return click.option("-o", "--output", "output_", type=PathOrURL(), hidden=True)(func)
 
 
+def _take_output(o: dict[str, Any], output: Path | None, overwrite: bool) -> dict[str, Any]:
+    """The parent's options ``o`` with -o and --overwrite given after the effect; refuses
+    a render without -o."""
+    if output is not None:
+        o["output"] = output
+    o["overwrite"] = o["overwrite"] or overwrite
+    if o["output"] is None:
+        raise click.UsageError("give the video to write with -o OUT.mp4")
+    return o
+
+
+def _check_video_output(output: Path) -> None:
+    """Refuse an output whose extension names no video container."""
+    from ..io.video import _check_output
+
+    _check_output(output, " with -o")
+
+
 def _run(
     ctx: click.Context,
     forward: Any,
@@ -241,17 +259,10 @@ def _run(
     as :func:`spherewarp.io.video.render_video` takes it); ``view``: a recipe's, used
     unless the command line names an output grid; ``pose``: what the input's spherical pose
     must follow (default: ``forward``, a turn it follows; with ``pull``, none)."""
-    from ..io.video import VIDEO_EXTENSIONS
     from ._files import job
 
-    o = ctx.obj
-    if output is not None:
-        o["output"] = output
-    o["overwrite"] = o["overwrite"] or overwrite
-    if o["output"] is None:
-        raise click.UsageError("give the video to write with -o OUT.mp4")
+    o = _take_output(ctx.obj, output, overwrite)
     from ..io.remote import is_url
-    from ..io.segments import _suffix
     from ..io.sequence import is_frames, is_pattern
 
     sequence = is_frames(o["input"]) or is_frames(o["output"])
@@ -271,14 +282,8 @@ def _run(
             "applies to an image sequence input (a video keeps its frame times)",
             param_hint="--fps",
         )
-    if not is_frames(o["output"]) and _suffix(o["output"]).lower() not in VIDEO_EXTENSIONS:
-        from ..errors import ImageFormatError
-
-        raise ImageFormatError(
-            f"cannot write '{o['output']}': unknown video extension "
-            f"{_suffix(o['output']) or '(none)'!r}; use one of "
-            f"{', '.join(VIDEO_EXTENSIONS)} with -o"
-        )
+    if not is_frames(o["output"]):
+        _check_video_output(o["output"])
     if pose is None:
         pose = _Pose(o["quiet"])
         pose.see(forward if pull is None else None)

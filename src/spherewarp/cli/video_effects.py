@@ -95,8 +95,13 @@ def looped(data: dict[str, Any], effect: str, seconds: float) -> dict[str, Any]:
     return {**data, "duration": seconds, "loop": True, "steps": [{effect: step}]}
 
 
-#: recipe fields of the generated commands that video does not take yet
+#: recipe fields the generated commands do not take as options (Droste's ``images`` comes
+#: from its --inside images; its ``view`` and ``periods``, see :data:`WHOLE_PICTURE`)
 NOT_ON_VIDEO = frozenset({"view", "periods", "images", "inside"})
+#: the still command's options that make a step draw a picture of its own (a flat log
+#: plane, several images blended): each frame is rendered through the recipe with its
+#: images (:func:`_run_whole`), not through a planned map
+WHOLE_PICTURE = {"droste": ("view", "periods", "inside")}
 
 
 def _generate(name: str, target: str) -> click.Command:
@@ -106,7 +111,8 @@ def _generate(name: str, target: str) -> click.Command:
     effect = EFFECTS[name]
     # the still command's own options, less those that draw a picture of their own (Droste's
     # log views and its --inside image: a recipe's only step, not yet on video)
-    fields = set(effect.params) - NOT_ON_VIDEO
+    whole = WHOLE_PICTURE.get(name, ())
+    fields = (set(effect.params) - NOT_ON_VIDEO) | set(whole)
     params = [p for p in still.params if p.name in fields]
     timed = "phase" in fields
 
@@ -117,11 +123,20 @@ def _generate(name: str, target: str) -> click.Command:
 
         ctx = click.get_current_context()
         _size_after(ctx, size_)
+        inside = values.pop("inside", None) or ()
+        if "inside" in whole:
+            values["inside"] = ()  # the still names its inputs in the recipe; these are ours
         data = recipe_of_command(ctx, still, values)
+        if inside:  # the copies cycle through the frame and the --inside images
+            data["steps"][0][name]["images"] = 1 + len(inside)
         label: Any = f"video ... {name}"
         if loop is not None:
             data, label = looped(data, name, loop), "--loop"
-        run_recipe(ctx, Recipe.from_dict(data), label, output_, overwrite_)
+        recipe = Recipe.from_dict(data)
+        if recipe.at(0.0).renderer is not None:  # a log view, or --inside images
+            _run_whole(ctx, recipe, inside, output_, overwrite_)
+            return
+        run_recipe(ctx, recipe, label, output_, overwrite_)
 
     summary = (still.help or "").strip().split("\n")[0].rstrip(".")
     help_text = (
@@ -138,6 +153,93 @@ def _generate(name: str, target: str) -> click.Command:
 
 for _name, _target in GENERATED.items():
     video.add_command(_generate(_name, _target))
+
+
+def _like(pixels: Any, frame: Any) -> Any:
+    """An --inside image as the frames are: RGB (grey repeated, alpha dropped), their type."""
+    import numpy as np
+
+    from ..io.images import convert_dtype
+
+    if pixels.shape[2] in (1, 2):
+        pixels = np.repeat(pixels[..., :1], 3, axis=2)
+    return np.ascontiguousarray(convert_dtype(pixels[..., :3], frame.dtype))
+
+
+def _inside_image(path: Path, force: bool) -> Any:
+    """The pixels of an --inside image (registered as read), 2:1 unless ``force``."""
+    from ..io import read_image
+    from ..render.warp import check_equirect
+    from ._files import job
+
+    job().reads(path, "--inside image")
+    pixels = read_image(path).pixels
+    check_equirect(pixels, force=force, name=str(path))
+    return pixels
+
+
+def _run_whole(
+    ctx: click.Context, recipe: Any, inside: tuple[Path, ...], output_: Any, overwrite_: bool
+) -> None:
+    """Render the parent's INPUT through ``recipe``, a step that draws its own picture (the
+    Droste log plane; the copies cycling through INPUT and the --inside images): frame k is
+    ``recipe.render([frame k, *inside], t_k)``, as the still command renders it. A flat
+    picture carries no spherical metadata; odd sides are cropped by one pixel (the encoders'
+    4:2:0 chroma needs even ones)."""
+    from ..io.multiclip import render_clips
+    from ..io.sequence import is_frames
+    from ..io.spherical import Spherical
+    from ._files import job
+    from ._video_out import segment_progress
+    from .video_cmds import _check_video_output, _take_output
+
+    o = _take_output(ctx.obj, output_, overwrite_)
+    if is_frames(o["input"]) or is_frames(o["output"]):
+        from ..errors import ImageFormatError
+
+        raise ImageFormatError("--view log and --inside read and write videos, not image sequences")
+    _check_video_output(o["output"])
+    for name in ("projection", "view_at", "fov", "fps", "dask"):
+        if o.get(name) is not None:
+            raise click.BadParameter(
+                "does not go with --view log or --inside", param_hint=f"--{name.replace('_', '-')}"
+            )
+    if (o.get("stereo") or "mono").lower() != "mono":
+        raise click.BadParameter("--view log and --inside take mono video", param_hint="--stereo")
+    for name in ("resume", "jobs", "segment"):
+        if o.get(name) not in (None, False, 1):
+            raise click.BadParameter(
+                "does not go with --view log or --inside (they render in one process)",
+                param_hint=f"--{name}",
+            )
+    job().reads(o["input"], "input")
+    job().writes(o["output"], "-o")
+    extra = [_inside_image(p, o["force"]) for p in inside]
+    frame0 = recipe.at(0.0)
+    kwargs: dict[str, Any] = {}
+    if o.get("size") is not None:  # WxH: the equirectangular output's; a log plane's height
+        kwargs["output_shape"] = (o["size"][1], o["size"][0])
+    if o["force"]:
+        kwargs["force"] = True
+
+    def combine(frames: list[Any], t: float) -> Any:
+        img = frames[0]
+        out = recipe.render([img, *(_like(x, img) for x in extra)], t, **kwargs)
+        h, w = out.shape[:2]
+        return out[: h - h % 2, : w - w % 2]
+
+    bar = segment_progress(o["quiet"], o["progress"])
+    try:
+        n = render_clips(
+            [o["input"]], o["output"], combine, codec=o["codec"], crf=o["crf"],
+            preset=o["preset"], pix_fmt=o["pix_fmt"], overwrite=o["overwrite"],
+            force=o["force"], spherical=None if frame0.flat else Spherical(), progress=bar,
+            timed=True,
+        )  # fmt: skip
+    finally:
+        bar.close()
+    if not o["quiet"]:
+        click.echo(f"wrote {o['output']} ({n} frames)")
 
 
 # -- schottky: the still command's options and map --------------------------------------------

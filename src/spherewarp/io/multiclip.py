@@ -90,6 +90,7 @@ class ClipsJob:
     encoding: dict[str, Any]
     in_pix: str
     threads: int | None = None
+    timed: bool = False  # combine(frames, t): t the first clip's frame time in seconds
 
 
 def _from(frames: Iterator[Any], start: int) -> Iterator[Any]:
@@ -109,6 +110,13 @@ def _decoders(containers: list[Any], starts: list[int], seek: bool) -> list[Iter
             c.seek(start, stream=vin, backward=True, any_frame=False)
         out.append(_from(c.decode(vin), start))
     return out
+
+
+def _time(frame: Any, job: ClipsJob, k: int) -> float:
+    """The time in seconds of ``frame``, the ``k``-th of ``job``'s segment."""
+    if frame.pts is not None:
+        return float(frame.pts * frame.time_base)
+    return float(job.starts[0] * job.time_base + Fraction(k) / job.rate)
 
 
 def render_clips_segment(
@@ -134,7 +142,11 @@ def render_clips_segment(
                     frames = [next(d, None) for d in decoders]
                     if any(f is None for f in frames):
                         break
-                    out = job.combine([f.to_ndarray(format=job.rgb) for f in frames])
+                    arrays = [f.to_ndarray(format=job.rgb) for f in frames]
+                    if job.timed:
+                        out = job.combine(arrays, _time(frames[0], job, done))
+                    else:
+                        out = job.combine(arrays)
                     writer.write(out, frames[0].pts, frames[0].time_base)
                     done += 1
                     if progress is not None:
@@ -170,6 +182,7 @@ def render_clips(
     jobs: int = 1,
     dask: str | Any | None = None,
     segment_seconds: float | None = None,
+    timed: bool = False,
 ) -> int:
     """Combine frame k of every input into frame k of ``output``, in segments; return the
     frames written.
@@ -198,6 +211,8 @@ def render_clips(
     identity, resume, jobs, dask, segment_seconds
         As :func:`spherewarp.io.segments.render_segmented` (``identity``: what decides
         ``combine``'s pixels).
+    timed : bool
+        Call ``combine(frames, t)`` with the first input's frame time ``t`` (seconds).
 
     Raises
     ------
@@ -241,7 +256,9 @@ def render_clips(
     containers = [_open(p) for p in paths]
     try:  # the first frames: the size (and whatever combine settles on them)
         lead = [next(d) for d in _decoders(containers, [pts[0] for pts, _ in times], False)]
-        size = combine([f.to_ndarray(format=rgb) for f in lead]).shape[:2]
+        arrays = [f.to_ndarray(format=rgb) for f in lead]
+        t0 = float(lead[0].pts * lead[0].time_base) if lead[0].pts is not None else 0.0
+        size = (combine(arrays, t0) if timed else combine(arrays)).shape[:2]
     finally:
         for c in containers:
             c.close()
@@ -259,7 +276,7 @@ def render_clips(
         return ClipsJob(
             index=i, part=part, inputs=paths, starts=[pts[a] for pts, _ in times],
             frames=b - a, combine=combine, rgb=rgb, size=size, rate=rate, time_base=tb,
-            encoding=encoding, in_pix=first.pix_fmt,
+            encoding=encoding, in_pix=first.pix_fmt, timed=timed,
         )  # fmt: skip
 
     end = None if differ is None else float(n / rate)

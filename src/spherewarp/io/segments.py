@@ -70,6 +70,7 @@ from .video import (
     copy_streams,
     muxer,
     output_spherical,
+    pipeline,
     prepare,
 )
 
@@ -166,6 +167,10 @@ def _set_threads(threads: int | None) -> None:
 
 def _dask_threads() -> int | None:
     """Inside a Dask worker: its cores divided by its task threads; else None."""
+    import sys
+
+    if "distributed" not in sys.modules:  # not in a worker (and no 1.5 s import to find out)
+        return None
     try:
         from distributed import get_worker
 
@@ -174,6 +179,26 @@ def _dask_threads() -> int | None:
         return None
     n = getattr(getattr(w, "state", None), "nthreads", None) or getattr(w, "nthreads", 1)
     return max(1, (os.cpu_count() or 1) // max(1, int(n)))
+
+
+#: the last frame plan made, for the next segment of the same render in this process:
+#: ``[settings, key, plan]`` (dropped with the settings: a plan holds ~100 MB at 4K)
+_KEPT: list[Any] = []
+
+
+def _kept_plan(s: Settings, key: tuple[Any, ...], make_plan: Callable[..., Any]) -> Any:
+    """The frame plan of ``key`` (``(inverse map, build options, pixel format, planar)``)
+    for the render of ``s``: made once, and kept for its next segments (which this
+    process renders one after the other, with the same map object for a static effect)."""
+    import weakref
+
+    if _KEPT and _KEPT[0]() is s and _KEPT[1][0] is key[0] and _KEPT[1][1:] == key[1:]:
+        return _KEPT[2]
+    plan = make_plan(key[0], key[1], key[2])
+    if not (_KEPT and _KEPT[0]() is s):  # once a render (a timed map makes a plan a frame)
+        weakref.finalize(s, _KEPT.clear)
+    _KEPT[:] = [weakref.ref(s), key, plan]
+    return plan
 
 
 def render_segment(
@@ -204,22 +229,35 @@ def render_segment(
                 vout.thread_type = "AUTO"
                 if job.index > 0:
                     src.seek(job.start_pts, stream=vin, backward=True, any_frame=False)
-                plan: tuple[Any, Any] | None = None
-                for item in src.decode(vin):
-                    if item.pts is None or item.pts < job.start_pts:
-                        continue
-                    if job.end_pts is not None and item.pts >= job.end_pts:
-                        break
+
+                def frames() -> Iterator[Any]:
+                    for item in src.decode(vin):
+                        if item.pts is None or item.pts < job.start_pts:
+                            continue
+                        if job.end_pts is not None and item.pts >= job.end_pts:
+                            break
+                        yield item
+
+                plan: list[Any] = [None, None]  # the map, its plan
+
+                def warp(item: Any) -> Any:
+                    nonlocal done
                     inverse, opts = job.frame_map(float(item.pts * item.time_base))
-                    if plan is None or plan[0] is not inverse:
-                        plan = (inverse, make_plan(inverse, opts, item.format.name))
+                    if plan[1] is None or plan[0] is not inverse:
+                        key = (inverse, opts, item.format.name, job.planar)
+                        plan[:] = [inverse, _kept_plan(s, key, make_plan)]
                     frame = plan[1].apply(item)
                     frame.pts, frame.time_base = item.pts, item.time_base
-                    dst.mux(vout.encode(frame))
                     done += 1
                     if progress is not None:
                         progress(done)
-                dst.mux(vout.encode(None))
+                    return frame
+
+                # decode, warp and encode at once (three threads, a few frames between)
+                pipeline(
+                    frames(), warp, lambda f: dst.mux(vout.encode(f)),
+                    lambda: dst.mux(vout.encode(None)),
+                )  # fmt: skip
         finally:
             src.close()
         if done != job.frames:

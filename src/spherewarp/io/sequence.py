@@ -29,9 +29,7 @@ Examples
 from __future__ import annotations
 
 import os
-import queue
 import re
-import threading
 import warnings
 from collections.abc import Callable, Iterator
 from fractions import Fraction
@@ -46,8 +44,6 @@ from .images import _FORMAT_DTYPES, SUPPORTED_EXTENSIONS, convert_dtype, read_im
 from .spherical import write_spherical
 from .stereo import FramePlan, is_panorama
 from .video import (
-    _END,
-    _QUEUE,
     FrameMap,
     VideoInfo,
     _check_encoder,
@@ -55,17 +51,15 @@ from .video import (
     _check_output,
     _depth,
     _encoder,
-    _get,
     _open,
     _pick_pix_fmt,
-    _put,
-    _Stop,
     check_container,
     default_codec,
     encoder_options,
     frame_layout,
     muxer,
     output_spherical,
+    pipeline,
     probe,
 )
 
@@ -411,61 +405,28 @@ def _pipeline(
     progress: Callable[[int, int], None] | None,
     total: int,
 ) -> int:
-    """Read (a thread), warp (here) and write (a thread) every frame; the number written."""
-    stop = threading.Event()
-    read: queue.Queue = queue.Queue(_QUEUE)
-    warped: queue.Queue = queue.Queue(_QUEUE)
-    errors: list[BaseException] = []
-
-    def reader() -> None:
-        try:
-            for item in frames:
-                _put(read, item, stop)
-            _put(read, _END, stop)
-        except _Stop:
-            pass
-        except BaseException as exc:  # noqa: BLE001 - carried to the main thread
-            errors.append(exc)
-            stop.set()
-
-    def writer() -> None:
-        try:
-            k = 0
-            while (item := _get(warped, stop)) is not _END:
-                sink(k, *item)
-                k += 1
-        except _Stop:
-            pass
-        except BaseException as exc:  # noqa: BLE001 - carried to the main thread
-            errors.append(exc)
-            stop.set()
-
-    threads = [threading.Thread(target=f, daemon=True) for f in (reader, writer)]
-    for th in threads:
-        th.start()
+    """Read (a thread), warp (here) and write (a thread) every frame; the number written
+    (:func:`spherewarp.io.video.pipeline`)."""
     plan: tuple[Any, FramePlan] | None = None
     done = 0
-    try:
-        while (item := _get(read, stop)) is not _END:
-            t, pixels = item
-            inverse, opts = frame_map(t)
-            if plan is None or plan[0] is not inverse:
-                plan = (inverse, make_plan(inverse, opts))
-            _put(warped, (t, plan[1].apply(pixels)), stop)
-            done += 1
-            if progress is not None:
-                progress(done, max(total, done))
-        _put(warped, _END, stop)
-        threads[1].join()
-    except _Stop:
-        pass
-    finally:
-        if errors or threads[1].is_alive():
-            stop.set()
-        for th in threads:
-            th.join()
-    if errors:
-        raise errors[0]
-    if stop.is_set():
-        raise RuntimeError("the sequence pipeline stopped early")
-    return done
+
+    def warp(item: tuple[float, np.ndarray]) -> tuple[float, np.ndarray]:
+        nonlocal plan, done
+        t, pixels = item
+        inverse, opts = frame_map(t)
+        if plan is None or plan[0] is not inverse:
+            plan = (inverse, make_plan(inverse, opts))
+        out = (t, plan[1].apply(pixels))
+        done += 1
+        if progress is not None:
+            progress(done, max(total, done))
+        return out
+
+    written = 0
+
+    def write(item: tuple[float, np.ndarray]) -> None:
+        nonlocal written
+        sink(written, *item)
+        written += 1
+
+    return pipeline(frames, warp, write)

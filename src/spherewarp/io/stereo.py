@@ -148,6 +148,10 @@ class FramePlan:
         One eye's output size without a grid (default: the input eye's).
     force : bool
         Accept an eye that is not 2:1.
+    lazy : bool
+        Make only the render plan (:attr:`plan`) now, and the
+        :class:`~spherewarp.render.WarpMap` (its source coordinates) when :meth:`apply`
+        first needs it (for :class:`~spherewarp.io.planes.PlaneTaps`, which needs the plan).
     **options
         :meth:`~spherewarp.render.WarpMap.build`'s (``interp``, ``antialias``,
         ``supersample``).
@@ -160,6 +164,8 @@ class FramePlan:
     out_shape : (height, width)
         The output frame's size.
     grid : Grid or None
+    plan : Plan or None
+        The render plan of an eye (None with a grid).
     """
 
     def __init__(
@@ -171,6 +177,7 @@ class FramePlan:
         grid: GridArg = None,
         out_shape: tuple[int, int] | None = None,
         force: bool = False,
+        lazy: bool = False,
         **options: Any,
     ) -> None:
         self.stereo = parse_stereo(stereo)
@@ -183,9 +190,10 @@ class FramePlan:
         self.inverse_map = inverse_map
         self.options = dict(options)
         self.force = force
+        self.plan: Any = None
+        self._wm: Any = None
         if self.grid is not None:
             self.eye_out = tuple(int(v) for v in self.grid.shape)
-            self._map = None
             # TODO(lead): switch to WarpMap.build(..., grid=self.grid) once the `plan` branch
             # (a WarpMap with an output grid) is merged; until then each frame is rendered
             # into the grid by spherewarp.warp (grids/render.py).
@@ -196,10 +204,32 @@ class FramePlan:
             from ..render import WarpMap
 
             self.eye_out = tuple(out_shape) if out_shape is not None else self.eye_in
-            self._map = WarpMap.build(
-                inverse_map, self.eye_in, self.eye_out, force=force, **self.options
-            )
+            h, w = self.eye_in
+            plain = inverse_map.n_sheets <= 1 and (force or w == 2 * h)  # WarpMap's checks
+            if lazy and plain:  # only the render plan; the WarpMap when apply first needs it
+                from ..render.plan import Options, plan
+
+                self.plan = plan(
+                    inverse_map, None, self.eye_in, self.eye_out, Options(**self.options)
+                )
+            else:
+                self._wm = WarpMap.build(
+                    inverse_map, self.eye_in, self.eye_out, force=force, **self.options
+                )
+                self.plan = self._wm.plan
         self.out_shape = frame_shape(self.eye_out, self.stereo)  # type: ignore[arg-type]
+
+    @property
+    def _map(self) -> Any:
+        """The :class:`~spherewarp.render.WarpMap` of an eye (None with a grid), built on first
+        use for a ``lazy`` plan."""
+        if self._wm is None and self.grid is None:
+            from ..render import WarpMap
+
+            self._wm = WarpMap.build(
+                self.inverse_map, self.eye_in, self.eye_out, force=self.force, **self.options
+            )
+        return self._wm
 
     @staticmethod
     def output_shape(
@@ -219,21 +249,25 @@ class FramePlan:
         shape = grid.shape if grid is not None else (out_shape or eye)
         return frame_shape(tuple(shape), stereo)  # type: ignore[arg-type]
 
-    def apply(self, pixels: NDArray, out: NDArray | None = None) -> NDArray:
-        """Warp ``pixels`` (H, W[, C]): each eye through the plan, in the input's layout."""
+    def apply(self, pixels: NDArray, out: NDArray | None = None, background: Any = None) -> NDArray:
+        """Warp ``pixels`` (H, W[, C]): each eye through the plan, in the input's layout;
+        ``background``: the value of pixels the map leaves undefined (default 0)."""
         img = pixels if pixels.ndim == 3 else pixels[..., None]
         if out is None:
             out = np.empty((*self.out_shape, img.shape[2]), img.dtype)
         for src, dst in zip(eyes(img, self.stereo), eyes(out, self.stereo), strict=True):
             if self._map is not None and dst.flags.c_contiguous:
-                self._map.apply(src, out=dst)
+                self._map.apply(src, out=dst, background=background)
             elif self._map is not None:
-                dst[...] = self._map.apply(src)
+                dst[...] = self._map.apply(src, background=background)
             else:
                 from ..render import warp
 
                 kwargs = {k: v for k, v in self.options.items() if k != "threads"}
-                dst[...] = warp(src, self.inverse_map, grid=self.grid, force=True, **kwargs)
+                dst[...] = warp(
+                    src, self.inverse_map, grid=self.grid, force=True, background=background,
+                    **kwargs,
+                )  # fmt: skip
         return out if pixels.ndim == 3 else out[..., 0]
 
 

@@ -38,13 +38,14 @@ from typing import Any
 from ..errors import ImageFormatError, InvalidValueError
 from ..maps.base import SphereMap
 from .atomic import atomic_file
-from .planes import frame_plan
+from .planes import PLANAR_FORMATS, frame_plan
 from .remote import is_url
 from .spherical import Spherical, read_spherical, write_spherical
 from .stereo import FramePlan, eye_shape, is_panorama, parse_stereo, resolve_grid
 
 __all__ = [
     "VideoInfo",
+    "pipeline",
     "probe",
     "render_video",
     "video_encoders",
@@ -369,11 +370,87 @@ def _get(q: queue.Queue, stop: threading.Event) -> Any:
 _END = object()
 
 
-def _check_output(output: Path) -> None:
-    if output.suffix.lower() not in VIDEO_EXTENSIONS:
+def pipeline(
+    produce: Iterator[Any],
+    work: Callable[[Any], Any],
+    consume: Callable[[Any], None],
+    finish: Callable[[], None] | None = None,
+    size: int = _QUEUE,
+) -> int:
+    """Run ``consume(work(item))`` for each item of ``produce`` as three stages: ``produce`` in
+    a thread (decoding), ``work`` in the calling thread (warping: a Ctrl-C reaches it there),
+    ``consume`` in a thread (encoding), then ``finish()`` in that thread; queues of ``size``
+    items join them, so memory holds a few items whatever the length. The first error (or
+    an interrupt) stops all three and is raised; returns the number of items.
+
+    Examples
+    --------
+    >>> got = []
+    >>> pipeline(iter(range(5)), lambda x: 10 * x, got.append)
+    5
+    >>> got
+    [0, 10, 20, 30, 40]
+    """
+    stop = threading.Event()
+    todo: queue.Queue = queue.Queue(size)
+    done: queue.Queue = queue.Queue(size)
+    errors: list[BaseException] = []
+
+    def run(f: Callable[[], None]) -> Callable[[], None]:
+        def body() -> None:
+            try:
+                f()
+            except _Stop:
+                pass
+            except BaseException as exc:  # noqa: BLE001 - carried to the calling thread
+                errors.append(exc)
+                stop.set()
+
+        return body
+
+    def source() -> None:
+        for item in produce:
+            _put(todo, item, stop)
+        _put(todo, _END, stop)
+
+    def sink() -> None:
+        while (item := _get(done, stop)) is not _END:
+            consume(item)
+        if finish is not None:
+            finish()
+
+    threads = [threading.Thread(target=run(f), daemon=True) for f in (source, sink)]
+    for t in threads:
+        t.start()
+    n = 0
+    try:
+        while (item := _get(todo, stop)) is not _END:
+            _put(done, work(item), stop)
+            n += 1
+        _put(done, _END, stop)
+        threads[1].join()
+    except _Stop:
+        pass
+    finally:
+        if errors or threads[1].is_alive():
+            stop.set()
+        for t in threads:
+            t.join()
+    if errors:
+        raise errors[0]
+    if stop.is_set():
+        raise RuntimeError("the video pipeline stopped early")
+    return n
+
+
+def _check_output(output: Path | str, hint: str = "") -> None:
+    """Refuse an output (a path or a URL) whose extension names no video container
+    (``hint`` ends the line)."""
+    suffix = Path(str(output).split("?", 1)[0]).suffix
+    if suffix.lower() not in VIDEO_EXTENSIONS:
         raise ImageFormatError(
-            f"cannot write '{output}': unknown video extension {output.suffix or '(none)'!r}; "
-            f"use one of {', '.join(VIDEO_EXTENSIONS)}"
+            f"cannot write '{output}': unknown video extension {suffix or '(none)'!r}; "
+            f"use one of {', '.join(VIDEO_EXTENSIONS)}{hint}"
         )
 
 
@@ -492,10 +569,13 @@ class Settings:
         )  # fmt: skip
 
         def make_plan(inverse: SphereMap, opts: dict[str, Any], in_pix: str) -> Any:
+            # planes warped by PlaneTaps need only the render plan, not a WarpMap
+            lazy = planar and in_pix == self.out_pix and in_pix in PLANAR_FORMATS[:2]
+
             def make(shape: tuple[int, int], eye_out: tuple[int, int] | None) -> FramePlan:
                 return FramePlan(
                     inverse, shape, stereo=layout, grid=grid, out_shape=eye_out or out_shape,
-                    **{"force": force, **opts},
+                    lazy=lazy, **{"force": force, **opts},
                 )  # fmt: skip
 
             return frame_plan(
@@ -637,77 +717,37 @@ def _transcode(
     vout.thread_type = "AUTO"
     copies = copy_streams(src, dst, vin)
     total = info.frames
-    stop = threading.Event()
-    decoded: queue.Queue = queue.Queue(_QUEUE)
-    warped: queue.Queue = queue.Queue(_QUEUE)
-    errors: list[BaseException] = []
-
-    def decode() -> None:
-        try:
-            wanted = [vin, *(s for s in src.streams if s.index in copies)]
-            for packet in src.demux(wanted):
-                if packet.stream is vin:
-                    for frame in packet.decode():
-                        _put(decoded, frame, stop)
-                elif packet.dts is not None:
-                    _put(decoded, packet, stop)
-            _put(decoded, _END, stop)
-        except _Stop:
-            pass
-        except BaseException as exc:  # noqa: BLE001 - carried to the main thread
-            errors.append(exc)
-            stop.set()
-
-    def encode() -> None:
-        try:
-            while True:
-                item = _get(warped, stop)
-                if item is _END:
-                    break
-                if isinstance(item, av.Packet):
-                    item.stream = copies[item.stream_index]
-                    dst.mux(item)
-                else:
-                    dst.mux(vout.encode(item))
-            dst.mux(vout.encode(None))
-        except _Stop:
-            pass
-        except BaseException as exc:  # noqa: BLE001 - carried to the main thread
-            errors.append(exc)
-            stop.set()
-
-    threads = [threading.Thread(target=f, daemon=True) for f in (decode, encode)]
-    for t in threads:
-        t.start()
     plan: tuple[Any, Any] | None = None
     done = 0
-    try:
-        while True:
-            item = _get(decoded, stop)
-            if item is _END or isinstance(item, av.Packet):
-                _put(warped, item, stop)
-                if item is _END:
-                    break
-                continue
-            t = float(item.pts * item.time_base) if item.pts is not None else done / rate
-            inverse, opts = frame_map(t)
-            if plan is None or plan[0] is not inverse:
-                plan = (inverse, make_plan(inverse, opts, item.format.name))
-            frame = plan[1].apply(item)
-            frame.pts, frame.time_base = item.pts, item.time_base
-            _put(warped, frame, stop)
-            done += 1
-            if progress is not None:
-                progress(done, max(total, done))
-        threads[1].join()
-    except _Stop:
-        pass
-    finally:
-        if errors or threads[1].is_alive():
-            stop.set()
-        for th in threads:
-            th.join()
-    if errors:
-        raise errors[0]
-    if stop.is_set() and not errors:
-        raise RuntimeError("the video pipeline stopped early")
+
+    def items() -> Iterator[Any]:
+        wanted = [vin, *(s for s in src.streams if s.index in copies)]
+        for packet in src.demux(wanted):
+            if packet.stream is vin:
+                yield from packet.decode()
+            elif packet.dts is not None:
+                yield packet
+
+    def warp(item: Any) -> Any:
+        nonlocal plan, done
+        if isinstance(item, av.Packet):
+            return item
+        t = float(item.pts * item.time_base) if item.pts is not None else done / rate
+        inverse, opts = frame_map(t)
+        if plan is None or plan[0] is not inverse:
+            plan = (inverse, make_plan(inverse, opts, item.format.name))
+        frame = plan[1].apply(item)
+        frame.pts, frame.time_base = item.pts, item.time_base
+        done += 1
+        if progress is not None:
+            progress(done, max(total, done))
+        return frame
+
+    def write(item: Any) -> None:
+        if isinstance(item, av.Packet):
+            item.stream = copies[item.stream_index]
+            dst.mux(item)
+        else:
+            dst.mux(vout.encode(item))
+
+    pipeline(items(), warp, write, lambda: dst.mux(vout.encode(None)))

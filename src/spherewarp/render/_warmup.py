@@ -28,7 +28,13 @@ from typing import Any, TextIO
 
 import numpy as np
 
-__all__ = ["ENTRY_POINTS", "compiled_entry_points", "run"]
+__all__ = [
+    "ENTRY_POINTS",
+    "GRID_ENTRY_POINTS",
+    "PLANE_ENTRY_POINTS",
+    "compiled_entry_points",
+    "run",
+]
 
 #: the kernels of ``_kernels`` that Python calls (the rest are inlined or called from these)
 ENTRY_POINTS = (
@@ -47,6 +53,8 @@ GRID_ENTRY_POINTS = (
     "spec_rows",  # WarpMap of a one-tap plan
     "sample_taps",  # one-tap plans: WarpMap.apply, warp() into a grid
 )
+#: the kernels of ``_plane_kernels`` (8-bit video planes warped in place, io.planes.PlaneTaps)
+PLANE_ENTRY_POINTS = ("plane_tap_table", "plane_taps")
 
 
 def compiled_entry_points() -> dict[str, int]:
@@ -55,7 +63,8 @@ def compiled_entry_points() -> dict[str, int]:
     Examples
     --------
     >>> counts = compiled_entry_points()
-    >>> sorted(counts) == sorted(ENTRY_POINTS + GRID_ENTRY_POINTS) or counts == {}
+    >>> every = ENTRY_POINTS + GRID_ENTRY_POINTS + PLANE_ENTRY_POINTS
+    >>> sorted(counts) == sorted(every) or counts == {}
     True
     """
     from . import fast
@@ -67,6 +76,10 @@ def compiled_entry_points() -> dict[str, int]:
     counts = {name: len(getattr(k, name).overloads) for name in ENTRY_POINTS}
     gk = _grid_kernels()
     counts.update({name: len(getattr(gk, name).overloads) for name in GRID_ENTRY_POINTS})
+    from ..io.planes import plane_kernels
+
+    pk = plane_kernels()
+    counts.update({name: len(getattr(pk, name).overloads) for name in PLANE_ENTRY_POINTS})
     return counts
 
 
@@ -131,7 +144,18 @@ def _steps() -> list[tuple[str, Any]]:
         one = np.ones(1)
         fast.subsample_coords(spec, (8, 16), (8, 16), one, one, one * 0.5, one * 0.5, threads=1)
 
+    def planes() -> None:
+        from ..io.planes import PlaneTaps
+
+        wm = WarpMap(rot, (8, 16), threads=1)
+        taps = PlaneTaps.of(wm.plan)
+        y = _images()[0][..., 0].reshape(-1).copy()
+        out = np.empty_like(y)
+        taps.apply([y], 16, [out], 16)  # luma
+        taps.apply([y, y], 16, [out, out.copy()], 16)  # U and V together
+
     steps.append(("spec_coords", coords))
+    steps.append(("video planes uint8", planes))
     for img in _images():
         steps.append((f"sample_csr {img.dtype}", lambda img=img: by_samples(img, False)))
         steps.append((f"area_batch {img.dtype}", lambda img=img: by_samples(img, True)))

@@ -327,8 +327,10 @@ def _grid_kernels() -> Any:
     return fast._STATE["grid_kernels"]
 
 
-def _drop_stale_grid_cache() -> None:
-    """Drop numba's cached ``_grid_kernels`` machine code when ``_kernels.py`` changed.
+def _drop_stale_grid_cache(module: str = "_grid_kernels") -> None:
+    """Drop numba's cached ``_grid_kernels`` machine code (or another ``module``'s of this
+    package that compiles ``_kernels``' helpers: ``_plane_kernels``) when ``_kernels.py``
+    changed.
 
     numba keys a cache by its own source file only, but ``_grid_kernels`` compiles
     ``_kernels``' helpers into its code: after an edit of ``_kernels.py`` alone its
@@ -343,10 +345,10 @@ def _drop_stale_grid_cache() -> None:
     cache = here / "__pycache__"
     try:
         digest = hashlib.sha256((here / "_kernels.py").read_bytes()).hexdigest()
-        stamp = cache / "_grid_kernels.kernels-sha256"
+        stamp = cache / f"{module}.kernels-sha256"
         if stamp.is_file() and stamp.read_text().strip() == digest:
             return
-        for f in cache.glob("_grid_kernels.*.nb[ic]"):
+        for f in cache.glob(f"{module}.*.nb[ic]"):
             f.unlink()
         cache.mkdir(exist_ok=True)
         stamp.write_text(digest)
