@@ -133,6 +133,27 @@ def test_droste_inside_and_log_view_refuse_bad_input(clip, workdir):
         assert "Traceback" not in err and not (workdir / "x.mp4").exists()
 
 
+def test_a_saved_droste_recipe_renders_on_video_as_the_droste_command(clip, workdir):
+    """'video IN recipe R.json' with a log-view Droste step gives what 'video IN droste ...
+    --view log' gives (a flat picture, no 360° metadata), not the plain Droste image; a recipe
+    of two images (a split screen's) is refused in one line."""
+    enc = ["--pix-fmt", "yuv444p", "--crf", "1"]
+    ok(None, "video", clip.name, "-o", "d.mp4", "-q", *enc, "droste", *DROSTE, "--view", "log")
+    ok(None, "droste", "x.png", *DROSTE, "--view", "log", "--save-recipe", "log.json",
+       "--dry-run", "-q")  # fmt: skip
+    ok(None, "video", clip.name, "-o", "r.mp4", "-q", *enc, "recipe", "log.json")
+    a, b = frames("d.mp4"), frames("r.mp4")
+    assert a[0].shape == b[0].shape
+    assert np.array_equal(a[3], b[3]) or psnr(a[3], b[3]) >= 45
+    assert probe("r.mp4").spherical is None
+    write_image(workdir / "other.png", panorama("courtyard.png"), overwrite=True)
+    ok(None, "splitscreen", "other.png", "other.png", "--save-recipe", "two.json", "--dry-run",
+       "-q")  # fmt: skip
+    code, _, err = run(None, "video", clip.name, "-o", "x.mp4", "recipe", "two.json")
+    assert code == 2 and "renders from 2 images" in err and err.count("\n") == 1, err
+    assert not (workdir / "x.mp4").exists()
+
+
 def frames_of_plain(clip, workdir):
     ok(None, "video", clip.name, "-o", "plain.mp4", "-q", "droste", *DROSTE)
     return frames(workdir / "plain.mp4")

@@ -534,6 +534,20 @@ def run_recipe(ctx: click.Context, r: Any, path: Any, output_: Any, overwrite_: 
     """Render the parent's INPUT through the recipe ``r`` (read from ``path``, or what names
     it in messages), as ``video ... recipe R.json`` does."""
     _check_recipe_fits(r, path, ctx.obj)
+    if r.n_inputs > 1:
+        from ..errors import InvalidValueError
+
+        raise InvalidValueError(
+            f"{path}: the recipe renders from {r.n_inputs} images (a split screen's, or "
+            "Droste's --inside images) but video renders one clip through a recipe; use "
+            "'spherewarp video A.mp4 B.mp4 -o OUT splitscreen ...' for clips on the sheets, "
+            "or 'spherewarp video IN -o OUT droste ... --inside IMAGE'"
+        )
+    if r.at(0.0).renderer is not None:  # a step that draws its own picture (a log view)
+        from .video_effects import _run_whole
+
+        _run_whole(ctx, r, (), output_, overwrite_)
+        return
     keys = ("interp", "antialias", "supersample")
     build = {k: v for k, v in r.at(0.0).warp_kwargs.items() if k in keys}
     if build.get("supersample") == 1:
