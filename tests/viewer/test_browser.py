@@ -743,3 +743,28 @@ def test_dragging_marks_edits_the_recipe(page, served, tmp_path):
     value = replay(served, page, tmp_path / "disk")
     print(f"schottky disk dragged: replay PSNR {value:.2f} dB")
     assert value >= 35
+
+
+def test_dragging_a_mark_in_the_sphere_panel(page):
+    """The right panel (the sphere view beside the flat one): the corner goes to the
+    direction of the pixel where the mouse was released (the shader's camera)."""
+    corners = [(110, 50), (148, 52), (146, 80), (112, 78)]
+    base = {"spherewarp": 1, "steps": [{"droste": {"frame": [lonlat_of(*c) for c in corners]}}]}
+    set_recipe(page, base)
+    look = [10, 5, 100]
+    page.evaluate(f"window.spherewarp.S.look = {look}")
+    page.select_option("#side", "sphere")
+    try:
+        box = page.locator("#view").bounding_box()
+        pos = page.evaluate("window.spherewarp.markPositions()")
+        c = next(p for p in pos if p["panel"] == 1 and p["path"] == [0, "droste", "frame", 2])
+        want = sphere_pixel(lonlat_of(*corners[2]), look)
+        assert np.hypot(c["x"] - W - want[0], c["y"] - want[1]) <= 1.0
+        to = (c["x"] + 9, c["y"] + 7)
+        drag_to(page, box, (c["x"], c["y"]), to)
+        page.wait_for_function("document.getElementById('status').textContent === 'mark moved'")
+        got = page.evaluate("window.spherewarp.S.recipe.steps[0].droste.frame[2]")
+        at = sphere_pixel(got, look)
+        assert np.hypot(at[0] + W - to[0], at[1] - to[1]) <= 2.0, (at, to)
+    finally:
+        page.select_option("#side", "")
