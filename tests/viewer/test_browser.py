@@ -580,3 +580,191 @@ def test_video_plays_warped(browser, video, tmp_path):
     finally:
         pg.close()
         srv.close()
+
+
+# -- the recipe's marks: frames and disks over the picture, dragged to edit ------------------
+
+#: a Droste frame (clicked in the flat view), a round Droste hole, a Schottky pair across
+#: the seam and one near the pole
+MARKED = {
+    "spherewarp": 1,
+    "steps": [
+        {
+            "droste": {
+                "frame": [lonlat_of(x, y) for x, y in [(110, 50), (148, 52), (146, 80), (112, 78)]]
+            }
+        },
+        {"droste": {"center": [-100, -20], "inner_radius": 12}},
+        {
+            "schottky": {
+                "generators": [
+                    {"disk": [175, 10, 15], "to": [-60, 30, 12]},
+                    {"disk": [30, 70, 10], "to": [60, -60, 10]},
+                ]
+            }
+        },
+    ],
+}
+
+
+def sphere_pixel(lonlat, look) -> tuple[float, float] | None:
+    """The sphere view's pixel of a direction (the shader's camera, written again here)."""
+    yaw, pitch, k = np.radians(look[0]), np.radians(look[1]), np.tan(np.radians(look[2] / 2))
+    f = np.array([np.cos(pitch) * np.cos(yaw), np.cos(pitch) * np.sin(yaw), np.sin(pitch)])
+    r = np.array([-np.sin(yaw), np.cos(yaw), 0])
+    u = np.array([-np.sin(pitch) * np.cos(yaw), -np.sin(pitch) * np.sin(yaw), np.cos(pitch)])
+    lon, lat = np.radians(lonlat)
+    d = np.array([np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)])
+    if d @ f <= 0:
+        return None
+    nx, ny = (d @ r) / (k * (d @ f)), -(d @ u) / (k * (d @ f))
+    return (nx + 1) * W / 2, (ny * W + H) / 2
+
+
+def handle_value(recipe, path):
+    v = recipe["steps"]
+    for key in path:
+        v = v[key]
+    return v
+
+
+def test_recipe_marks_in_every_view_and_the_toggle(page, served, tmp_path):
+    set_recipe(page, MARKED)
+    page.evaluate("window.spherewarp.S.look = [160, 10, 100]")
+    try:
+        for side in ("", "sphere", "planet", "original"):
+            page.select_option("#side", side)
+            pos = page.evaluate("window.spherewarp.markPositions()")
+            marks = canvas_png(page, "marks")
+            (tmp_path / f"marks-{side or 'flat'}.png").write_bytes(page.screenshot())
+            assert {p["panel"] for p in pos} == ({0} if side in ("", "original") else {0, 1})
+            for p in pos:
+                at = handle_value(MARKED, p["path"])
+                x, y = p["x"] - p["panel"] * W, p["y"]
+                if p["panel"] == 0:  # flat: the Python side's projection
+                    want = pixel_from_lonlat_deg(np.array(at[:2], float), W, H)
+                    dx = (x - want[0] + W / 2) % W - W / 2
+                    assert np.hypot(dx, y - want[1]) <= 1.0, (p, want)
+                elif side == "sphere":
+                    want = sphere_pixel(at[:2], [160, 10, 100])
+                    assert want is not None and np.hypot(x - want[0], y - want[1]) <= 1.0
+                # a mark is drawn there (the overlay is opaque round it)
+                xi, yi = int(round(p["x"])), int(round(p["y"]))
+                ring = marks[max(0, yi - 5) : yi + 6, max(0, xi - 5) : xi + 6, 3]
+                assert ring.max() > 200, p
+            # all six disk centres, two frame corners... in the flat panel
+            assert sum(p["panel"] == 0 for p in pos) == 4 + 1 + 4
+        page.select_option("#side", "")
+        # a disk across the seam: no line across the whole panel (the polyline is split)
+        marks = canvas_png(page, "marks")
+        row = int(round(pixel_from_lonlat_deg(np.array([175.0, 10.0]), W, H)[1]))
+        assert (marks[row, 60:200, 3] > 0).sum() < 40
+        # the picture is the same with the marks and without, and still the renderer's
+        with_marks = shown(page)
+        page.uncheck("#show-marks")
+        assert page.evaluate("new URLSearchParams(location.search).get('marks')") == "0"
+        assert page.evaluate("window.spherewarp.markPositions()") == []
+        assert canvas_png(page, "marks")[..., 3].max() == 0  # nothing over the picture
+        page.evaluate("window.spherewarp.draw()")
+        assert np.array_equal(shown(page), with_marks)
+        value = psnr(with_marks, cpu(served, MARKED))
+        print(f"marked recipe: PSNR {value:.2f} dB")
+        assert value >= 35
+    finally:
+        page.select_option("#side", "")
+        if not page.is_checked("#show-marks"):
+            page.check("#show-marks")
+    assert page.evaluate("new URLSearchParams(location.search).get('marks')") is None
+    assert canvas_png(page, "marks")[..., 3].max() > 200
+
+
+def drag_to(page, box, a, b) -> None:
+    page.mouse.move(box["x"] + a[0], box["y"] + a[1])
+    page.mouse.down()
+    for k in range(1, 6):
+        page.mouse.move(
+            box["x"] + a[0] + (b[0] - a[0]) * k / 5, box["y"] + a[1] + (b[1] - a[1]) * k / 5
+        )
+    page.mouse.up()
+
+
+def test_dragging_marks_edits_the_recipe(page, served, tmp_path):
+    corners = [(110, 50), (148, 52), (146, 80), (112, 78)]
+    base = {
+        "spherewarp": 1,
+        "steps": [
+            {"rotate": {"yaw": 10}},
+            {"droste": {"frame": [lonlat_of(x, y) for x, y in corners]}},
+        ],
+    }
+    set_recipe(page, base)
+    box = page.locator("#view").bounding_box()
+    pos = {tuple(p["path"]): p for p in page.evaluate("window.spherewarp.markPositions()")}
+    c = pos[(1, "droste", "frame", 1)]
+    assert np.hypot(c["x"] - 148, c["y"] - 52) <= 1e-6
+    drag_to(page, box, (c["x"], c["y"]), (156.0, 44.0))
+    page.wait_for_function("document.getElementById('status').textContent === 'mark moved'")
+    frame = page.evaluate("window.spherewarp.S.recipe.steps[1].droste.frame")
+    got = pixel_from_lonlat_deg(np.array(frame[1], float), W, H)
+    assert np.hypot(got[0] - 156, got[1] - 44) <= 2.0, got
+    assert np.allclose(frame[0], lonlat_of(*corners[0]))
+    value = replay(served, page, tmp_path)
+    print(f"droste corner dragged: replay PSNR {value:.2f} dB")
+    assert value >= 35
+    (tmp_path / "dragged.png").write_bytes(page.screenshot())
+    # undo takes it back
+    page.click("#undo")
+    page.evaluate("window.spherewarp.settle()")
+    assert page.evaluate("window.spherewarp.S.recipe") == base
+    # a corner dragged across the frame (out of order): the server's line, nothing changes
+    pos = {tuple(p["path"]): p for p in page.evaluate("window.spherewarp.markPositions()")}
+    c = pos[(1, "droste", "frame", 0)]
+    drag_to(page, box, (c["x"], c["y"]), (150.0, 82.0))
+    page.wait_for_function("document.getElementById('status').className === 'bad'")
+    assert "moving the mark" in page.text_content("#status")
+    page.evaluate("window.spherewarp.settle()")
+    assert page.evaluate("window.spherewarp.S.recipe") == base
+    # a Schottky disk's centre: moved, its radius kept
+    pair = {
+        "spherewarp": 1,
+        "steps": [{"schottky": {"generators": [{"disk": [-90, 0, 15], "to": [90, 0, 12]}]}}],
+    }
+    set_recipe(page, pair)
+    page.evaluate("window.spherewarp.settle()")
+    pos = {tuple(p["path"]): p for p in page.evaluate("window.spherewarp.markPositions()")}
+    c = pos[(0, "schottky", "generators", 0, "disk")]
+    drag_to(page, box, (c["x"], c["y"]), (c["x"] - 10, c["y"] - 12))
+    page.wait_for_function("document.getElementById('status').textContent === 'mark moved'")
+    disk = page.evaluate("window.spherewarp.S.recipe.steps[0].schottky.generators[0].disk")
+    got = pixel_from_lonlat_deg(np.array(disk[:2], float), W, H)
+    assert np.hypot(got[0] - (c["x"] - 10), got[1] - (c["y"] - 12)) <= 2.0
+    assert disk[2] == 15
+    (tmp_path / "disk").mkdir()
+    value = replay(served, page, tmp_path / "disk")
+    print(f"schottky disk dragged: replay PSNR {value:.2f} dB")
+    assert value >= 35
+
+
+def test_dragging_a_mark_in_the_sphere_panel(page):
+    """The right panel (the sphere view beside the flat one): the corner goes to the
+    direction of the pixel where the mouse was released (the shader's camera)."""
+    corners = [(110, 50), (148, 52), (146, 80), (112, 78)]
+    base = {"spherewarp": 1, "steps": [{"droste": {"frame": [lonlat_of(*c) for c in corners]}}]}
+    set_recipe(page, base)
+    look = [10, 5, 100]
+    page.evaluate(f"window.spherewarp.S.look = {look}")
+    page.select_option("#side", "sphere")
+    try:
+        box = page.locator("#view").bounding_box()
+        pos = page.evaluate("window.spherewarp.markPositions()")
+        c = next(p for p in pos if p["panel"] == 1 and p["path"] == [0, "droste", "frame", 2])
+        want = sphere_pixel(lonlat_of(*corners[2]), look)
+        assert np.hypot(c["x"] - W - want[0], c["y"] - want[1]) <= 1.0
+        to = (c["x"] + 9, c["y"] + 7)
+        drag_to(page, box, (c["x"], c["y"]), to)
+        page.wait_for_function("document.getElementById('status').textContent === 'mark moved'")
+        got = page.evaluate("window.spherewarp.S.recipe.steps[0].droste.frame[2]")
+        at = sphere_pixel(got, look)
+        assert np.hypot(at[0] + W - to[0], at[1] - to[1]) <= 2.0, (at, to)
+    finally:
+        page.select_option("#side", "")

@@ -30,6 +30,7 @@ const S = {
   frames: 0,
   overlay: 0, // how much of the test pattern is mixed in
   ss: 2, // sub-samples per pixel along each axis (?ss=1..4)
+  marks: true, // the recipe's marks (frames, disks) over the picture (?marks=0 hides them)
 };
 
 // -- WebGL ---------------------------------------------------------------------------------------
@@ -294,10 +295,11 @@ function drawMarks() {
       c.fillRect(x0, 0, 1, h);
     }
     if (panel.edited) {
-      for (const pin of S.pins) {
+      for (const pin of S.marks ? S.pins : []) {
         const q = lonLatToPixel(pin[0], pin[1], panel.view);
         if (q) dot(x0 + q[0], q[1], "#ffd54a");
       }
+      if (S.marks) drawRecipeMarks(c, x0, panel.view, line, dot);
       const m = S.mode;
       if (m && m.kind === "droste") {
         m.points.forEach((p) => {
@@ -313,6 +315,113 @@ function drawMarks() {
     }
     c.restore();
   });
+}
+
+// -- the recipe's marks: every Droste step's frame (or its round hole), every Schottky
+// step's disks D_x and D_X with an arrow between them. Handles (a frame's corners, a
+// centre, a disk's centre) can be dragged to edit the step.
+const isNum = (v) => typeof v === "number" && Number.isFinite(v);
+const isPoint = (p) => Array.isArray(p) && p.length >= 2 && isNum(p[0]) && isNum(p[1]);
+const isDisk = (d) => isPoint(d) && d.length === 3 && isNum(d[2]);
+
+// the shapes of the recipe: {pts, closed, colour, arrow} polylines on the sphere, and
+// handles {at, colour, path} where path names the value in the recipe ([step, ...keys])
+function recipeShapes(recipe = S.recipe) {
+  const shapes = [], handles = [];
+  (recipe.steps || []).forEach((step, k) => {
+    if (step.droste) {
+      const v = step.droste;
+      if (Array.isArray(v.frame) && v.frame.length === 4 && v.frame.every(isPoint)) {
+        shapes.push({ pts: arcs(v.frame, true), closed: false, colour: "#ff4ae3" });
+        v.frame.forEach((p, j) => handles.push({ at: p, colour: "#ff4ae3", path: [k, "droste", "frame", j] }));
+      }
+      if (isPoint(v.center)) {
+        if (isNum(v.inner_radius))
+          shapes.push({ pts: circle([...v.center, v.inner_radius]), closed: true, colour: "#ff4ae3" });
+        handles.push({ at: v.center, colour: "#ff4ae3", path: [k, "droste", "center"] });
+      }
+    }
+    if (step.schottky && Array.isArray(step.schottky.generators)) {
+      step.schottky.generators.forEach((g, j) => {
+        if (!g || !isDisk(g.disk)) return;
+        shapes.push({ pts: circle(g.disk), closed: true, colour: "#7aff4a" });
+        handles.push({ at: g.disk, colour: "#7aff4a", path: [k, "schottky", "generators", j, "disk"] });
+        if (!isDisk(g.to)) return;
+        shapes.push({ pts: circle(g.to), closed: true, colour: "#ff7a4a" });
+        handles.push({ at: g.to, colour: "#ff7a4a", path: [k, "schottky", "generators", j, "to"] });
+        shapes.push({ pts: geodesic(g.disk, g.to), closed: false, colour: "#ffffff", arrow: true });
+      });
+    }
+    if (step.schottky && Array.isArray(step.schottky.targets)) {
+      step.schottky.targets.forEach((t, j) => {
+        if (!t || !isDisk(t.to)) return;
+        shapes.push({ pts: circle(t.to), closed: true, colour: "#ff7a4a" });
+        handles.push({ at: t.to, colour: "#ff7a4a", path: [k, "schottky", "targets", j, "to"] });
+      });
+    }
+  });
+  return { shapes, handles };
+}
+
+function drawRecipeMarks(c, x0, view, line, dot) {
+  const { shapes, handles } = recipeShapes();
+  for (const s of shapes) {
+    line(s.pts, s.colour, x0, view, s.closed);
+    if (s.arrow) {  // the head at the end (D_X), along the last piece that is shown
+      const qs = s.pts.slice(-6).map((p) => lonLatToPixel(p[0], p[1], view));
+      const [a, b] = [qs[0], qs[qs.length - 1]];
+      if (a && b && Math.hypot(b[0] - a[0], b[1] - a[1]) > 1 && Math.abs(b[0] - a[0]) < S.size[0] / 2) {
+        const t = Math.atan2(b[1] - a[1], b[0] - a[0]);
+        c.beginPath();
+        for (const s2 of [-1, 1])
+          c.moveTo(x0 + b[0], b[1]), c.lineTo(x0 + b[0] - 8 * Math.cos(t + s2 * 0.4), b[1] - 8 * Math.sin(t + s2 * 0.4));
+        c.stroke();
+      }
+    }
+  }
+  for (const h of handles) {
+    const q = lonLatToPixel(h.at[0], h.at[1], view);
+    if (q) dot(x0 + q[0], q[1], h.colour, 3.5);
+  }
+}
+
+// the handles' pixels in each panel (the tests): [{path, panel, x, y}] (x of the whole canvas)
+function markPositions() {
+  const out = [];
+  if (!S.marks) return out;
+  const { handles } = recipeShapes();
+  panels().forEach((panel, i) => {
+    if (!panel.edited) return;
+    for (const h of handles) {
+      const q = lonLatToPixel(h.at[0], h.at[1], panel.view);
+      if (q && q[0] >= 0 && q[0] < S.size[0] && q[1] >= 0 && q[1] < S.size[1])
+        out.push({ path: h.path, panel: i, x: i * S.size[0] + q[0], y: q[1] });
+    }
+  });
+  return out;
+}
+
+// the handle within 8 pixels of (px, py) in a panel of this view, the nearest, or null
+function handleAt(px, py, view) {
+  if (!S.marks) return null;
+  let best = null, bd = 8;
+  for (const h of recipeShapes().handles) {
+    const q = lonLatToPixel(h.at[0], h.at[1], view);
+    const d = q ? Math.hypot(q[0] - px, q[1] - py) : Infinity;
+    if (d <= bd) (best = h), (bd = d);
+  }
+  return best;
+}
+
+// the recipe with the value at path moved to `to` (a disk keeps its radius)
+function movedRecipe(recipe, path, to) {
+  const r = JSON.parse(JSON.stringify(recipe));
+  let o = r.steps;
+  for (const key of path.slice(0, -1)) o = o[key];
+  const last = path[path.length - 1];
+  const old = o[last];
+  o[last] = old.length === 3 ? [...round(to), old[2]] : round(to);
+  return r;
 }
 
 const unit = (p) => {
@@ -335,6 +444,26 @@ function arcs(pts, closed) {
       const t = j / 16;
       out.push(lonlat(a.map((x, i) => x * (1 - t) + b[i] * t)));
     }
+  }
+  return out;
+}
+
+// the great circle arc from a to b (degrees), 32 pieces (by way of a point off the
+// line when they are antipodal)
+function geodesic(a, b) {
+  let [u, v] = [unit(a), unit(b)];
+  const d = u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+  if (d < -0.999) {
+    const e = Math.abs(u[2]) < 0.9 ? [0, 0, 1] : [1, 0, 0];
+    const mid = lonlat(e.map((x, i) => x - (e[0] * u[0] + e[1] * u[1] + e[2] * u[2]) * u[i]));
+    return [...geodesic(a, mid), ...geodesic(mid, b).slice(1)];
+  }
+  const w = Math.acos(Math.max(-1, Math.min(1, d)));
+  const out = [];
+  for (let j = 0; j <= 32; j++) {
+    const t = j / 32;
+    const [p, q] = w < 1e-9 ? [1 - t, t] : [Math.sin((1 - t) * w) / Math.sin(w), Math.sin(t * w) / Math.sin(w)];
+    out.push(lonlat(u.map((x, i) => p * x + q * v[i])));
   }
   return out;
 }
@@ -504,6 +633,7 @@ function writeURL() {
   q.set("size", `${S.size[0]}x${S.size[1]}`);
   if (S.ss !== 2) q.set("ss", S.ss);
   if (S.side) q.set("side", S.side);
+  if (!S.marks) q.set("marks", "0");
   q.set("recipe", JSON.stringify(S.recipe));
   history.replaceState(null, "", `?${q}`);
 }
@@ -514,6 +644,7 @@ function readURL() {
   const m = /^(\d+)x(\d+)$/.exec(q.get("size") || "");
   if (m) S.size = [Math.min(+m[1], 8192), Math.min(+m[2], 8192)];
   if (["flat", "sphere", "planet", "original"].includes(q.get("side"))) S.side = q.get("side");
+  if (q.get("marks") === "0") S.marks = false;
   const ss = +q.get("ss");
   if (ss >= 1 && ss <= 4) S.ss = Math.round(ss);
   if (q.get("recipe")) {
@@ -598,6 +729,11 @@ canvas.addEventListener("mousedown", (ev) => {
     drag = { disk: true, panel: i, view: panel.view };
     return;
   }
+  const h = !ev.altKey && handleAt(px, py, panel.view);
+  if (h) {  // a mark of the recipe: drag it to move that corner or centre
+    drag = { handle: h, base: JSON.parse(JSON.stringify(S.recipe)), moved: false, panel: i, view: panel.view };
+    return;
+  }
   if (ev.altKey) {  // pin a point (the older pin goes)
     S.pins = [S.pins[1], round(at)];
     showPins();
@@ -632,6 +768,11 @@ window.addEventListener("mousemove", (ev) => {
     return;
   }
   drag.moved = true;
+  if (drag.handle) {  // live, unchecked: the server's line shows if it is not a step
+    S.recipe = movedRecipe(drag.base, drag.handle.path, dragAt(ev));
+    refresh();
+    return;
+  }
   S.recipe = { ...drag.base, steps: [...drag.base.steps, dragStep(drag.from, dragAt(ev))] };
   refresh();
 });
@@ -651,12 +792,30 @@ window.addEventListener("mouseup", (ev) => {
     return void schottkyDisk(disk);
   }
   if (d.look || !d.moved) return;
+  if (d.handle) return void dropHandle(d, to);
   S.undo.push(JSON.stringify(d.base));
   S.redo = [];
   S.recipe = { ...d.base, steps: [...d.base.steps, dragStep(d.from, to)] };
   refresh();
   buildSliders();
 });
+
+// a mark dropped: the step checked by the server as a new one; kept (undo takes it back)
+// or the recipe as it was before the drag, with the server's line
+async function dropHandle(d, to) {
+  const recipe = movedRecipe(d.base, d.handle.path, to);
+  S.recipe = d.base;
+  try {
+    await post("api/stages", recipe);
+  } catch (e) {
+    refresh(); // the picture of the recipe as it was, then the server's line
+    await window.spherewarp.settle();
+    return status(`moving the mark: ${e.message}`, true);
+  }
+  commit(recipe);
+  await window.spherewarp.settle();
+  status("mark moved");
+}
 
 canvas.addEventListener(
   "wheel",
@@ -831,6 +990,12 @@ function wireButtons() {
     writeURL();
     draw();
   };
+  $("show-marks").checked = S.marks;
+  $("show-marks").onchange = () => {
+    S.marks = $("show-marks").checked;
+    writeURL();
+    drawMarks();
+  };
   $("m-droste").onclick = () => setMode("droste");
   $("m-schottky").onclick = () => setMode("schottky");
   $("overlay").oninput = async () => {
@@ -881,6 +1046,7 @@ window.spherewarp = {
   draw,
   pixelToLonLat,
   lonLatToPixel,
+  markPositions,
   setRecipe: (r) => commit(r),
   // packed stages straight from Python (maps that no recipe effect makes yet)
   setStages: async (st) => {
