@@ -1527,7 +1527,8 @@ def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, 
     (``L`` the length of that column of ``J``, at most ``cap``), each pulled back
     through the map and an area tap over its share of the footprint
     (:func:`_subsamples`): it is ``special``, as an undefined pixel is.
-    ``S``: scratch, ``(3, >= n + 1)``.
+    ``S``: scratch, ``(3, >= n + 1)``, its first row the sources' cos(latitude)
+    (:func:`source_cos`).
 
     Neighbour differences can miss a footprint that the magnification ``G / T``
     says is large: where the map repeats itself at the pixel's scale (a Droste
@@ -1539,15 +1540,12 @@ def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, 
     """
     q = wo / (2.0 * ho * cl)
     half = 0.5 * wi
-    kv = PI / hi
     CS = S[0]
     DU = S[1]
     DV = S[2]
-    # vectorised passes: cos(lat) of the source points, the differences to the left
+    # vectorised passes: the differences to the left
     # neighbour (wrapped round the seam), then per pixel (in float32: 5 square roots
     # a pixel, twice the lanes of float64)
-    for k in range(n):
-        CS[k] = max(fsincos(kv * (V[k] + 0.5))[0], 1e-9)
     for k in range(1, n):
         d = U[k] - U[k - 1]
         d = d - wi if d > half else d
@@ -1582,7 +1580,7 @@ def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, 
         near = f(4.0) * min(ll, lr) >= max(ll, lr)  # no jump next door: the centre's
         du = half32 * (dul + dur) if near else du
         dv = half32 * (dvl + dvr) if near else dv
-        cs = f(CS[k])
+        cs = f(max(CS[k], 1e-9))
         j01 = -q32 * dv / cs
         j21 = q32 * du * cs
         J[0, k] = du
@@ -1974,51 +1972,66 @@ def _ramp_integral(t):
     return tc - np.float32(0.5) * p * p
 
 
-@njit(inline="always", **_H)
-def _box_weights(f, b, W, k):
-    """``W[0:4, k]``: the 4 fixed-point weights (1/4096) along one axis of a tap at
-    fraction ``f`` past its second pixel, box width ``b``: rounded cumulative sums
-    (the ramp's integral over the box), so that they sum to exactly 4096."""
+@njit(inline="always", **_V)
+def _box_weights(F, B, n, W):
+    """``W[0:4, k]``: the 4 fixed-point weights (1/4096) along one axis of each tap ``k``
+    at fraction ``F[k]`` past its second pixel, box width ``B[k]`` (clamped to ``[1e-3,
+    2]``): rounded cumulative sums (the ramp's integral over the box), so that they sum
+    to exactly 4096. One vectorised pass (four output rows: few enough for LLVM's
+    run-time alias checks)."""
+    lo = np.float32(1e-3)
+    hi = np.float32(2.0)
     half = np.float32(0.5)
     one = np.float32(1.0)
-    h = half * b
-    s = np.float32(4096.0) / b
-    a = f + one
-    c0 = np.int32((_ramp_integral(a + h) - _ramp_integral(a - h)) * s + half)
-    c1 = np.int32((_ramp_integral(f + h) - _ramp_integral(f - h)) * s + half)
-    a = f - one
-    c2 = np.int32((_ramp_integral(a + h) - _ramp_integral(a - h)) * s + half)
-    W[0, k] = c0
-    W[1, k] = c1 - c0
-    W[2, k] = c2 - c1
-    W[3, k] = np.int32(4096) - c2
+    W0 = W[0]
+    W1 = W[1]
+    W2 = W[2]
+    W3 = W[3]
+    for k in range(n):
+        f = F[k]
+        b = min(max(np.float32(B[k]), lo), hi)
+        h = half * b
+        s = np.float32(4096.0) / b
+        a = f + one
+        c0 = np.int32((_ramp_integral(a + h) - _ramp_integral(a - h)) * s + half)
+        c1 = np.int32((_ramp_integral(f + h) - _ramp_integral(f - h)) * s + half)
+        a = f - one
+        c2 = np.int32((_ramp_integral(a + h) - _ramp_integral(a - h)) * s + half)
+        W0[k] = c0
+        W1[k] = c1 - c0
+        W2[k] = c2 - c1
+        W3[k] = np.int32(4096) - c2
+
+
+@njit(inline="always", **_V)
+def _first_taps(U, n, X0, FX):
+    """``X0[k]``: the first of the 4 taps along one axis of tap-space coordinate
+    ``U[k]`` (NaN or huge: 0, as :func:`taps_u8`); ``FX[k]``: its fraction past the
+    second, float32."""
+    for k in range(n):
+        uk = U[k] if abs(U[k]) < 1e6 else 0.0
+        fu = math.floor(uk)
+        X0[k] = np.int32(fu) - np.int32(1)
+        FX[k] = np.float32(uk - fu)
 
 
 @njit(**_V)
-def area_taps_u8(U, V, BX, BY, n, WX, WY, X0, Y0):
+def area_taps_u8(U, V, BX, BY, n, WX, WY, X0, Y0, FX, FY):
     """Fixed-point area taps (vectorised): the first tap ``X0, Y0`` and the weights
     ``WX[0:4]`` (columns), ``WY[0:4]`` (rows) of each sample, in 1/4096, each set
     summing to exactly 4096 (so that a weighted sum of 255s, 255 * 4096 * 4096, still
-    fits in 32 bits).
+    fits in 32 bits). ``FX``, ``FY``: float32 scratch for the fractions.
 
     The weights are those of :func:`_area_weights` (the tent averaged over a box
     of width ``b``, clamped to ``[1e-3, 2]``), taken as differences of rounded
     cumulative sums; the cumulative weight of the taps up to ``d`` is the ramp's
-    integral over the box.
+    integral over the box. Four passes, each with few output arrays: one loop
+    writing all ten was not vectorised (2.5x the time).
     """
-    lo = np.float32(1e-3)
-    hi = np.float32(2.0)
-    for k in range(n):
-        uk = U[k] if abs(U[k]) < 1e6 else 0.0  # NaN or huge: 0 (as taps_u8)
-        vk = V[k] if abs(V[k]) < 1e6 else 0.0
-        fu = math.floor(uk)
-        fv = math.floor(vk)
-        X0[k] = np.int32(fu) - np.int32(1)
-        Y0[k] = np.int32(fv) - np.int32(1)
-        fx = np.float32(uk - fu)
-        fy = np.float32(vk - fv)
-        _box_weights(fx, min(max(np.float32(BX[k]), lo), hi), WX, k)
-        _box_weights(fy, min(max(np.float32(BY[k]), lo), hi), WY, k)
+    _first_taps(U, n, X0, FX)
+    _first_taps(V, n, Y0, FY)
+    _box_weights(FX, BX, n, WX)
+    _box_weights(FY, BY, n, WY)
 
 
 @njit(**_H)
@@ -2122,7 +2135,7 @@ def area_u8(p64, tail, big, a8, w_in, h_in, c, U, V, BX, BY, n, res, sc, packed,
     """Area taps of ``n`` samples of a uint8 image into packed ``res`` or (not
     ``packed``) ``sc[6]`` (``sc``: the scratch ``WX, WY, X0, Y0, Q``, results)."""
     WX, WY, X0, Y0, Q, _, F = sc
-    area_taps_u8(U, V, BX, BY, n, WX, WY, X0, Y0)
+    area_taps_u8(U, V, BX, BY, n, WX, WY, X0, Y0, F[0], F[1])  # (F: scratch until the blend)
     area_gather_u8(p64, tail, big, w_in, h_in, c, X0, Y0, n, Q)
     area_blend_u8(Q, WX, WY, res, F, n, c, packed)
     nwide = 0
@@ -2236,21 +2249,30 @@ def cubic_u8(p64, tail, big, w_in, h_in, c, U, V, n, res, sc):
 
 
 @njit(**_V)
-def _one_tap_px(T, G, V, valid, n, cl, hi, aa_kx, aa_ky, thr, small):
+def source_cos(V, n, hi, CS):
+    """``CS[k]``: cos(latitude) of the source point at tap-space row ``V[k]`` of an input
+    ``hi`` rows high (NaN or huge: row 0, as :func:`taps_u8`); vectorised, computed once
+    a chunk for :func:`_one_tap_px` and :func:`_area_counts`."""
+    kv = PI / hi
+    for k in range(n):
+        vk = V[k] if abs(V[k]) < 1e6 else 0.0
+        CS[k] = fsincos(kv * (vk + 0.5))[0]
+
+
+@njit(**_V)
+def _one_tap_px(T, G, CS, valid, n, cl, aa_kx, aa_ky, thr, small):
     """Which pixels of the area filter take one bilinear tap: ``small[k]`` where the
     footprint's box in the input's chart is at most ``thr`` input pixels a side,
     bounded from the magnification ``s = G / T``: the footprint's axes on the sphere
     are ``s * kx * cos(lat)`` and ``s * ky`` equatorial input pixels, and the chart
-    stretches the east one by ``1 / cos(lat_src)``. Returns how many."""
-    kv = PI / hi
+    stretches the east one by ``1 / cos(lat_src)`` (``CS``, :func:`source_cos`).
+    Returns how many."""
     ext = max(aa_kx * cl, aa_ky)
     cnt = 0
     for k in range(n):
         t = T[k]
         s = min(G[k] / t, 1e9) if t > 0.0 else 1e9
-        vk = V[k] if abs(V[k]) < 1e6 else 0.0
-        cs = fsincos(kv * (vk + 0.5))[0]  # cos(latitude) of the source
-        ok = (valid[k] != 0) and (s * ext <= thr * cs)
+        ok = (valid[k] != 0) and (s * ext <= thr * CS[k])
         small[k] = ok
         cnt += ok
     return cnt
@@ -2579,7 +2601,8 @@ def render_spec(
             nsp = 0
             nsmall = 0
             if area:
-                nsmall = _one_tap_px(T, G, V, valid, w, cl, hi, aa_kx, aa_ky, one_tap, small)
+                source_cos(V, w, hi, AS[0])  # (read by _area_counts too)
+                nsmall = _one_tap_px(T, G, AS[0], valid, w, cl, aa_kx, aa_ky, one_tap, small)
             if area and nsmall == w:  # one tap a pixel: no footprints
                 for k in range(w):
                     nx[k] = 1
