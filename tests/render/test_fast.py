@@ -374,9 +374,9 @@ def test_without_numba_the_numpy_path_renders(monkeypatch):
 @pytest.mark.parametrize("channels", [1, 2, 3, 4])
 def test_uint8_nearest_and_bicubic_loads_are_the_scalar_sampler(interp, channels):
     """The fused kernel's uint8 nearest (a load a pixel) and bicubic (8 loads of two) give
-    the scalar float32 sampler's pixels bit for bit (a cached one-tap map samples through
-    it), seam and poles included, every channel count; bicubic within 1 of the reference
-    (nearest may break a tie at a pixel's edge the other way)."""
+    the scalar sampler's pixels bit for bit (a cached one-tap map samples through it), seam
+    and poles included, every channel count; bicubic (fixed point in both) within 1 of the
+    float64 reference (nearest may break a tie at a pixel's edge the other way)."""
     from spherewarp.render.cache import WarpMap
 
     img = _image((32, 64, channels), np.uint8, seed=channels)
@@ -390,6 +390,94 @@ def test_uint8_nearest_and_bicubic_loads_are_the_scalar_sampler(interp, channels
             if interp == "bicubic":
                 b = warp(img, m, method="reference", **kw)
                 assert np.abs(a.astype(int) - b).max() <= 1
+
+
+def _keys(t: float) -> np.ndarray:
+    """Keys' cubic weights (a = -0.5) of the fraction ``t``, float64."""
+    return np.array(
+        [
+            -0.5 * t * (1 - t) ** 2,
+            1 - 2.5 * t**2 + 1.5 * t**3,
+            0.5 * t + 2 * t**2 - 1.5 * t**3,
+            -0.5 * t**2 * (1 - t),
+        ]
+    )
+
+
+@needs_jit
+def test_fixed_point_cubic_weights():
+    """uint8 bicubic's integer weights (``_cubic_q``): each set sums to exactly
+    2**CUBIC_BITS and keeps Keys' first moment (``-w0 + w2 + 2 w3 = q``: linear ramps are
+    reproduced), mirrors in ``q <-> 1 - q``, and is within 1.5 / 2**CUBIC_BITS of Keys'
+    float64 weights; a weighted sum of 16 pixels fits in int32."""
+    k = fast._kernels()
+    one = 1 << k.CUBIC_BITS
+    W = np.array([k._cubic_q(np.int32(q)) for q in range(one + 1)], np.int64)
+    q = np.arange(one + 1)
+    np.testing.assert_array_equal(W.sum(1), one)
+    np.testing.assert_array_equal(-W[:, 0] + W[:, 2] + 2 * W[:, 3], q)
+    np.testing.assert_array_equal(W[::-1, ::-1], W)
+    exact = np.array([_keys(t) for t in q / one]) * one
+    assert np.abs(W - exact).max() <= 1.5
+    assert 255 * np.abs(W).sum(1).max() ** 2 < 2**31
+
+
+def _cubic_u8_taps(img, u, v):
+    """The fused kernel's uint8 bicubic taps (``cubic_u8``) of tap-space ``(u, v)``, and
+    the scalar sampler's (``acc_sample``) before rounding; ``(n, c)`` each."""
+    k = fast._kernels()
+    h, w, c = img.shape
+    n = u.size
+    p64, tail, big, _ = fast._u8_views(img, np.empty_like(img))
+    sc = (np.empty((4, n), np.int32), np.empty((4, n), np.int32), np.empty(n, np.int32),
+          np.empty(n, np.int32), np.empty((8, n), np.uint64), np.empty(n, np.uint32),
+          np.empty((4, n), np.float32))  # fmt: skip
+    res = np.empty(n, np.uint32)
+    k.cubic_u8(p64, tail, big, w, h, c, u, v, n, res, sc)
+    fused = (res[:, None] >> (8 * np.arange(c, dtype=np.uint32))) & 255
+    acc = np.zeros((n, c), np.float32)
+    bundle = fast._image_bundle(img)
+    for j in range(n):
+        k.acc_sample(bundle, u[j], v[j], k.BICUBIC, acc, j)
+    return fused, acc
+
+
+@needs_jit
+@pytest.mark.parametrize("channels", [1, 3, 4])
+def test_fixed_point_cubic_reproduces_a_linear_ramp(channels):
+    """Away from the seam and the poles, uint8 bicubic (fixed point) gives ``a + b x + c y``
+    exactly at the coordinates rounded to 1/2**CUBIC_BITS (scalar sampler, before
+    rounding), as the float path did up to float error; the fused kernel gives that value
+    rounded, half to even."""
+    k = fast._kernels()
+    h, w = 16, 32
+    r = np.random.default_rng(channels)
+    yy, xx = np.mgrid[0:h, 0:w]
+    b = r.integers(-3, 4, channels)
+    cy = r.integers(-2, 3, channels)
+    img = (128 + b * xx[..., None] + cy * yy[..., None]).astype(np.uint8)
+    u = np.concatenate([r.uniform(1, w - 3, 400), [1.0, w - 3.0, 7.5, 7.5 + 0.5 / 2048]])
+    v = np.concatenate([r.uniform(1, h - 3, 400), [1.0, h - 3.0, 3.25, 3.0 - 1.5 / 2048]])
+    one = 1 << k.CUBIC_BITS
+    uq = np.floor(u * one + 0.5) / one
+    vq = np.floor(v * one + 0.5) / one
+    want = 128 + b * uq[:, None] + cy * vq[:, None]
+    fused, acc = _cubic_u8_taps(img, u, v)
+    np.testing.assert_array_equal(acc, want)
+    np.testing.assert_array_equal(fused, np.rint(want))
+
+
+@needs_jit
+def test_fixed_point_cubic_fused_taps_are_the_scalar_sampler():
+    """``cubic_u8`` and ``acc_sample`` give the same uint8 bicubic values on taps round the
+    seam, past the poles, outside the image, NaN and huge (both count as 0)."""
+    img = _image((16, 32, 3), np.uint8, seed=5)
+    r = np.random.default_rng(5)
+    u = np.concatenate([r.uniform(-3, 35, 3000), [np.nan, 1e7, -1e9, 31.9999, -0.5]])
+    v = np.concatenate([r.uniform(-3, 19, 3000), [2.0, np.nan, 1e300, -0.0001, 15.5]])
+    fused, acc = _cubic_u8_taps(img, u, v)
+    np.testing.assert_array_equal(fused, np.clip(np.rint(acc), 0, 255))
+    assert fused.min() == 0 and fused.max() == 255  # overshoot clamped
 
 
 @needs_jit

@@ -1200,6 +1200,66 @@ def _cubic(t):
     return w0, w1, w2, w3
 
 
+#: fixed-point bicubic of uint8 images: fractions and weights in 1/2**CUBIC_BITS; a weighted
+#: sum of 16 pixels, in 1/2**(2 * CUBIC_BITS), stays within int32 (|255 * 1.25**2 * 2**22|)
+CUBIC_BITS = 11
+_CUBIC_ONE = np.int32(1 << CUBIC_BITS)
+_CUBIC_SCALE = np.float32(1.0 / (1 << (2 * CUBIC_BITS)))
+
+
+@njit(inline="always", **_H)
+def _cubic_tap(u):
+    """The fixed-point bicubic tap of a tap-space coordinate.
+
+    Parameters
+    ----------
+    u : float
+        Tap-space coordinate (NaN or ``|u| >= 1e6`` count as 0, as :func:`taps_u8`).
+
+    Returns
+    -------
+    x0 : int64
+        The pixel at or before ``u`` rounded to 1/2**CUBIC_BITS (the second of the 4 taps).
+    q : int32
+        The rounded fraction past ``x0``, in ``[0, 2**CUBIC_BITS)``.
+    """
+    uk = u if abs(u) < 1e6 else 0.0
+    xi = np.int64(math.floor(np.float64(uk) * np.float64(1 << CUBIC_BITS) + 0.5))
+    return xi >> np.int64(CUBIC_BITS), np.int32(xi & np.int64((1 << CUBIC_BITS) - 1))
+
+
+@njit(inline="always", **_H)
+def _cubic_q(q):
+    """Keys' cubic weights (``a = -0.5``) in 1/2**CUBIC_BITS of the fraction ``q / 2**CUBIC_BITS``.
+
+    The outer weights are the exact ones rounded to nearest
+    (``-q (1 - q)**2 / 2`` and ``-q**2 (1 - q) / 2``, in int32: at most
+    ``4/27 * 2**33``); the inner two follow from the two sums Keys' weights keep,
+    ``w0 + w1 + w2 + w3 = 1`` and ``-w0 + w2 + 2 w3 = q``, so that the four sum to
+    exactly ``2**CUBIC_BITS`` and a linear ramp is reproduced exactly. Each is
+    within 1.5 / 2**CUBIC_BITS of the exact weight; symmetric in ``q <-> 1 - q``.
+
+    Parameters
+    ----------
+    q : int32
+        The fraction, in ``[0, 2**CUBIC_BITS]``.
+
+    Returns
+    -------
+    w0, w1, w2, w3 : int32
+        The weights of the taps at ``-1, 0, 1, 2`` pixels from the first.
+    """
+    i32 = np.int32
+    r = _CUBIC_ONE - q
+    half = i32(1 << (2 * CUBIC_BITS))  # rounding term of the shift by 2 * CUBIC_BITS + 1
+    sh = i32(2 * CUBIC_BITS + 1)
+    w0 = -i32(i32(i32(i32(q * r) * r) + half) >> sh)
+    w3 = -i32(i32(i32(i32(q * q) * r) + half) >> sh)
+    w2 = i32(q + w0 - i32(2 * w3))
+    w1 = i32(_CUBIC_ONE - w0 - w3 - w2)
+    return w0, w1, w2, w3
+
+
 @njit(**_H)
 def _get(img, iy, ix, ch):
     """Pixel value of the image bundle ``img`` as float32 (see ``fast._image_bundle``)."""
@@ -1229,10 +1289,17 @@ def _put(dst, i, r):
 
 @njit(**_H)
 def acc_sample(img, u, v, interp, acc, j):
-    """``acc[j, :] += sample of the image at tap-space (u, v)`` (float32)."""
+    """``acc[j, :] += sample of the image at tap-space (u, v)`` (float32).
+
+    Bicubic taps of a uint8 image are in fixed point (:func:`_cubic_u8_sample`, as
+    :func:`cubic_u8`); the other taps and types in float32.
+    """
     h = img[5]
     w = img[6]
     c = img[7]
+    if interp == BICUBIC and img[4] == 0:
+        _cubic_u8_sample(img[0], h, w, c, u, v, acc, j)
+        return
     if interp == NEAREST:
         iy, ix = _fold(int(math.floor(v + 0.5)), int(math.floor(u + 0.5)), h, w)
         for ch in range(c):
@@ -1270,6 +1337,53 @@ def acc_sample(img, u, v, interp, acc, j):
                 + wx3 * _get(img, iy3, ix3, ch)
             )
             acc[j, ch] += wy * row
+
+
+@njit(**_H)
+def _cubic_u8_sample(a, h, w, c, u, v, acc, j):
+    """``acc[j, :] +=`` the fixed-point bicubic sample of the uint8 image ``a`` at
+    tap-space ``(u, v)``.
+
+    Weights of :func:`_cubic_q` along each axis (fractions rounded to
+    1/2**CUBIC_BITS, :func:`_cubic_tap`); each row's 4 pixels times the column
+    weights, then the 4 rows times the row weights, summed in int32; the sum times
+    2**(-2 CUBIC_BITS) as float32. Taps fold over the poles and wrap as the float
+    path's. :func:`cubic_u8` does the same operations (so the same pixels).
+
+    Parameters
+    ----------
+    a : ndarray of uint8, shape (h, w, c)
+        The image.
+    h, w, c : int
+        Its shape.
+    u, v : float
+        Tap-space coordinates of the sample.
+    acc : ndarray of float32, shape (m, c)
+        Accumulator; row ``j`` is added to.
+    j : int
+        The row of ``acc``.
+    """
+    i32 = np.int32
+    x0, qx = _cubic_tap(u)
+    y0, qy = _cubic_tap(v)
+    wx0, wx1, wx2, wx3 = _cubic_q(qx)
+    wy0, wy1, wy2, wy3 = _cubic_q(qy)
+    for ch in range(c):
+        s = i32(0)
+        for dy in range(4):
+            wy = wy0 if dy == 0 else (wy1 if dy == 1 else (wy2 if dy == 2 else wy3))
+            iy0, ix0 = _fold(y0 + dy - 1, x0 - 1, h, w)
+            iy1, ix1 = _fold(y0 + dy - 1, x0, h, w)
+            iy2, ix2 = _fold(y0 + dy - 1, x0 + 1, h, w)
+            iy3, ix3 = _fold(y0 + dy - 1, x0 + 2, h, w)
+            row = i32(
+                wx0 * i32(a[iy0, ix0, ch])
+                + wx1 * i32(a[iy1, ix1, ch])
+                + wx2 * i32(a[iy2, ix2, ch])
+                + wx3 * i32(a[iy3, ix3, ch])
+            )
+            s = i32(s + wy * row)
+        acc[j, ch] += np.float32(s) * _CUBIC_SCALE
 
 
 @njit(inline="always", **_H)
@@ -2169,7 +2283,7 @@ def _area_wide_u8(a, h, w, c, U, V, BX, BY, n, res, F, packed, mask, want):
                 F[ch, k] = np.float32(out[ch])
 
 
-# -- uint8 nearest and bicubic: whole pixels a load, the scalar sampler's arithmetic -------------
+# -- uint8 nearest (the scalar sampler's arithmetic) and bicubic (fixed point), by 8-byte loads ----
 @njit(**_H)
 def nearest_u8(p64, tail, big, w_in, h_in, c, U, V, n, res):
     """Nearest taps of a uint8 image into packed ``res``: one unaligned load a pixel,
@@ -2190,62 +2304,80 @@ def nearest_u8(p64, tail, big, w_in, h_in, c, U, V, n, res):
 
 
 @njit(inline="always", **_H)
-def _cubic_blend_c(Q, F, res, n, c):
+def _cubic_blend_c(Q, QF, res, n, c):
     sh = np.uint64(8 * c)
     m = np.uint64(255)
     lo = np.float32(0.0)
     hi = np.float32(255.0)
+    i32 = np.int32
     for k in range(n):
-        wx0, wx1, wx2, wx3 = _cubic(F[0, k])
-        wy0, wy1, wy2, wy3 = _cubic(F[1, k])
+        wx0, wx1, wx2, wx3 = _cubic_q(QF[0, k])
+        wy0, wy1, wy2, wy3 = _cubic_q(QF[1, k])
         r = np.uint32(0)
         for ch in range(c):
             s0 = np.uint64(8 * ch)
             s1 = s0 + sh
-            acc = np.float32(0.0)
+            acc = i32(0)
             for dy in range(4):
-                # the expression of acc_sample's bicubic branch, term for term
+                # the operations of _cubic_u8_sample, in int32 (the casts keep LLVM's
+                # lanes 32 bits wide: numba widens int32 arithmetic to int64)
                 wy = wy0 if dy == 0 else (wy1 if dy == 1 else (wy2 if dy == 2 else wy3))
                 qa = Q[2 * dy, k]
                 qb = Q[2 * dy + 1, k]
-                row = (
-                    wx0 * np.float32((qa >> s0) & m)
-                    + wx1 * np.float32((qa >> s1) & m)
-                    + wx2 * np.float32((qb >> s0) & m)
-                    + wx3 * np.float32((qb >> s1) & m)
+                row = i32(
+                    wx0 * i32((qa >> s0) & m)
+                    + wx1 * i32((qa >> s1) & m)
+                    + wx2 * i32((qb >> s0) & m)
+                    + wx3 * i32((qb >> s1) & m)
                 )
-                acc = np.float32(acc + wy * row)
-            val = min(max(np.rint(acc), lo), hi)
+                acc = i32(acc + wy * row)
+            val = min(max(np.rint(np.float32(acc) * _CUBIC_SCALE), lo), hi)
             r |= np.uint32(val) << np.uint32(8 * ch)
         res[k] = r
 
 
 @njit(**_H)
 def cubic_u8(p64, tail, big, w_in, h_in, c, U, V, n, res, sc):
-    """Bicubic taps of a uint8 image into packed ``res``: the 4 x 4 pixels as 8 loads
-    of two (:func:`area_gather_u8`), then the float32 arithmetic of
-    :func:`acc_sample` and :func:`finish_pixel` (so the same pixels). ``sc``: the
-    area scratch of :func:`area_u8` (``X0``, ``Y0``, ``Q``, and ``F`` for the
-    fractions)."""
-    _, _, X0, Y0, Q, _, F = sc
+    """Bicubic taps of a uint8 image into packed ``res``, in fixed point.
+
+    The taps and rounded fractions of :func:`_cubic_tap`, the 4 x 4 pixels as 8
+    loads of two (:func:`area_gather_u8`), then the int32 blend of
+    :func:`_cubic_u8_sample` with the weights of :func:`_cubic_q`, rounded as
+    :func:`finish_pixel` (so the same pixels as :func:`acc_sample`).
+
+    Parameters
+    ----------
+    p64, tail, big : ndarray of uint64, ndarray of uint64, int
+        The image as unaligned 8-byte loads (see :func:`gather_u8`).
+    w_in, h_in, c : int
+        The image's shape.
+    U, V : ndarray of float64
+        Tap-space coordinates of the ``n`` samples.
+    n : int
+        Number of samples.
+    res : ndarray of uint32
+        Packed result, ``c`` bytes a sample.
+    sc : tuple
+        The area scratch of :func:`area_u8`: ``X0``, ``Y0``, ``Q`` and its first
+        int32 array (``WX``) for the fractions.
+    """
+    QF, _, X0, Y0, Q, _, _ = sc
     for k in range(n):
-        uk = U[k] if abs(U[k]) < 1e6 else 0.0  # NaN or huge: 0 (as taps_u8)
-        vk = V[k] if abs(V[k]) < 1e6 else 0.0
-        fu = math.floor(uk)
-        fv = math.floor(vk)
-        X0[k] = np.int32(fu) - np.int32(1)
-        Y0[k] = np.int32(fv) - np.int32(1)
-        F[0, k] = np.float32(uk - fu)
-        F[1, k] = np.float32(vk - fv)
+        x0, qx = _cubic_tap(U[k])
+        y0, qy = _cubic_tap(V[k])
+        X0[k] = np.int32(x0) - np.int32(1)
+        Y0[k] = np.int32(y0) - np.int32(1)
+        QF[0, k] = qx
+        QF[1, k] = qy
     area_gather_u8(p64, tail, big, w_in, h_in, c, X0, Y0, n, Q)
     if c == 3:
-        _cubic_blend_c(Q, F, res, n, 3)
+        _cubic_blend_c(Q, QF, res, n, 3)
     elif c == 4:
-        _cubic_blend_c(Q, F, res, n, 4)
+        _cubic_blend_c(Q, QF, res, n, 4)
     elif c == 1:
-        _cubic_blend_c(Q, F, res, n, 1)
+        _cubic_blend_c(Q, QF, res, n, 1)
     else:
-        _cubic_blend_c(Q, F, res, n, 2)
+        _cubic_blend_c(Q, QF, res, n, 2)
 
 
 @njit(**_V)
