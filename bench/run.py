@@ -36,6 +36,7 @@ sys.path.insert(0, str(HERE.parent))
 
 from PIL import Image  # noqa: E402
 
+from bench.data import SHARED_PANORAMAS  # noqa: E402
 from spherewarp import coords  # noqa: E402
 from spherewarp.maps import Mobius  # noqa: E402
 from spherewarp.render import fast, warp  # noqa: E402
@@ -43,7 +44,7 @@ from spherewarp.render.cache import WarpMap  # noqa: E402
 
 YPR = (30.0, 20.0, 10.0)  # the rotation every peer does: v360 yaw/pitch/roll
 SAMPLE = HERE.parent / "src" / "spherewarp" / "data" / "interior.png"
-DETAIL = Path("/work/shared/data/panoramas/forest.png")
+DETAIL = SHARED_PANORAMAS / "forest.png"
 
 try:
     import cv2

@@ -15,8 +15,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from shared_data import SHARED_PANORAMAS
+
 PACKAGE_DATA = Path(__file__).resolve().parents[1] / "src" / "spherewarp" / "data"
-SHARED_PANORAMAS = Path("/work/shared/data/panoramas")
 
 
 def pytest_configure(config: pytest.Config) -> None:

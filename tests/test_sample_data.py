@@ -12,11 +12,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from shared_data import SHARED_PANORAMAS
 from spherewarp.io.images import read_image
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "src" / "spherewarp" / "data"
-ORIGINALS = Path("/work/shared/data/panoramas")
+ORIGINALS = SHARED_PANORAMAS
 SAMPLES = ["interior.png", "courtyard.png"]
 
 

@@ -11,7 +11,7 @@ negative values all over the EXR.
 
 This script, run from the repository root::
 
-    python tools/repair_samples.py [--src /work/shared/data/panoramas] [--dest src/spherewarp/data]
+    python tools/repair_samples.py [--src ../shared/data/panoramas] [--dest src/spherewarp/data]
 
 1. reads the original ``NAME.exr`` files from ``--src``;
 2. clamps every channel to ``>= 0`` (NaN/inf are refused: the originals have none);
@@ -44,9 +44,12 @@ import OpenEXR
 from PIL import Image
 from scipy import ndimage
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from bench.data import SHARED_PANORAMAS  # noqa: E402
+
 #: bundled sample -> whether its EXR is bundled too (the PNG always is)
 SAMPLES = {"interior": True, "courtyard": False}
-DEFAULT_SRC = Path("/work/shared/data/panoramas")
+DEFAULT_SRC = SHARED_PANORAMAS
 HISTORY = "spherewarp tools/repair_samples.py: negatives clamped to 0, lamp ringing filled"
 DEFAULT_DEST = Path(__file__).resolve().parents[1] / "src" / "spherewarp" / "data"
 

@@ -8,13 +8,14 @@ that v360 can serve as an external oracle for spherewarp's own rotations.
 from __future__ import annotations
 
 import functools
-from pathlib import Path
 
 import numpy as np
 import pytest
 from _v360_convention import v360_matrix
 
-PANOS = Path("/work/shared/data/panoramas")
+from shared_data import SHARED_PANORAMAS
+
+PANOS = SHARED_PANORAMAS
 ANGLES = [
     (30.0, 0.0, 0.0),
     (0.0, 20.0, 0.0),
