@@ -392,3 +392,50 @@ def test_area_taps_are_exact_for_wide_boxes(box, dtype):
                       np.zeros(1, np.uint8), 0)  # fmt: skip
             got = [(int(res[0]) >> (8 * ch)) & 255 for ch in range(3)]
             assert np.abs(np.array(got) - want).max() <= 0.51
+
+
+@needs_jit
+@pytest.mark.parametrize("channels", [1, 3, 4])
+def test_uint8_area_taps_match_the_float_taps_at_the_poles_and_the_seam(channels):
+    """The uint8 area taps (4 x 4 in fixed point, and the wide taps for boxes over 2 input
+    pixels) give the float taps' average to within a level, as packed pixels and as the
+    unrounded sums of parts: inside, round the seam, over both poles (rows fold half a
+    turn round) and for NaN and huge coordinates."""
+    from spherewarp.render import fast
+
+    k = fast._kernels()
+    rng = np.random.default_rng(7)
+    h, w = 32, 64
+    img = rng.integers(0, 256, (h, w, channels)).astype(np.uint8)
+    n = 4000
+    U = rng.uniform(-1.0, w + 1.0, n)
+    V = np.concatenate([rng.uniform(-0.5, 3.0, n // 4), rng.uniform(h - 4.0, h - 0.5, n // 4),
+                        rng.uniform(-0.5, h - 0.5, n - n // 2)])  # fmt: skip
+    U0 = U.copy()
+    U0[:3] = 0.0  # what the uint8 taps make of NaN and huge coordinates
+    U[:3] = (np.nan, 1e9, -1e9)
+    BX = rng.uniform(0.5, 4.0, n)
+    BY = rng.uniform(0.5, 4.0, n)
+    wide = rng.random(n) < 0.5
+    BY[wide] = rng.uniform(2.05, 4.0, wide.sum())  # most of them wide in one axis at least
+    acc = np.zeros((n, channels), np.float32)
+    cover = np.zeros(n, np.int64)
+    f32 = img.astype(np.float32)
+    k.area_batch(
+        fast._image_bundle(f32), U0, V, BX, BY, n, np.ones(n, np.uint8), np.arange(n), acc,
+        cover, np.empty((8, n), np.float32), np.empty(n, np.int64), np.empty(n, np.int64),
+    )  # fmt: skip
+    p64, tail, big, _ = fast._u8_views(img, np.empty_like(img))
+    na = n
+    for packed in (True, False):
+        sc = (np.empty((4, na), np.int32), np.empty((4, na), np.int32), np.empty(na, np.int32),
+              np.empty(na, np.int32), np.empty((8, na), np.uint64), np.empty(na, np.uint32),
+              np.zeros((4, na), np.float32))  # fmt: skip
+        res = np.empty(n, np.uint32)
+        k.area_u8(p64, tail, big, img, w, h, channels, U, V, BX, BY, n, res, sc, packed,
+                  np.zeros(n, np.uint8), 0)  # fmt: skip
+        if packed:
+            got = np.stack([(res >> np.uint32(8 * ch)) & 255 for ch in range(channels)], -1)
+            assert np.abs(got - np.rint(acc)).max() <= 1
+        else:
+            assert np.abs(sc[6][:channels].T - acc).max() <= 0.6
