@@ -4,7 +4,8 @@ A segmented render (:mod:`spherewarp.io.segments`) whose input or output is a UR
 and writes through `fsspec <https://filesystem-spec.readthedocs.io>`_ (installed with
 ``pip install "spherewarp[dask]"``), on the client and on every worker alike:
 
-* an input is opened as a file object that PyAV reads (seeking as it needs);
+* an input is opened as a file object that PyAV reads (seeking as it needs); a still
+  (``animate``'s) is downloaded to a local temporary file and read from it (:func:`local_copy`);
 * a file is written to a local temporary file, uploaded under a temporary name beside
   its destination, then moved into place (:func:`put_atomic`): a half-written segment or
   output is never found by its name;
