@@ -135,6 +135,23 @@ def test_animate_on_dask_gives_the_same_file(workdir, cluster):
     assert not Path("dask.mp4.parts").exists()
 
 
+def test_animate_urls_on_dask_give_the_same_file(workdir, cluster, ftp):
+    from test_animate_segments import SPIN
+
+    from videoclip import panorama
+
+    write_image(ftp.root / "d-pano.png", panorama())
+    write_image(workdir / "pano.png", panorama())
+    (workdir / "spin.json").write_text(json.dumps({"spherewarp": 1, **SPIN}))
+    args = ("--fps", "24", "--segment", SEG, "-q")
+    ok(None, "animate", "spin.json", "pano.png", *args, "-o", "local.mp4")
+    code, _, err = run(None, "animate", "spin.json", f"{ftp.url}/d-pano.png", *args,
+                       "-o", f"{ftp.url}/d-out/dask.mp4", "--dask", cluster.address)  # fmt: skip
+    assert code == 0 and err == "", err
+    assert digest(ftp.root / "d-out" / "dask.mp4") == digest("local.mp4")
+    assert sorted(p.name for p in (ftp.root / "d-out").iterdir()) == ["dask.mp4"]
+
+
 def test_splitscreen_of_clips_on_dask_gives_the_same_file(workdir, cluster):
     make_clip(workdir / "a.mp4", frames=12)
     make_clip(workdir / "b.mp4", frames=12)

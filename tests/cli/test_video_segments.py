@@ -197,3 +197,9 @@ def test_a_url_without_fsspec_says_how_to_install(clip, workdir):
         assert p.returncode == 2 and err.count("\n") == 1, err
         assert 'pip install "spherewarp[dask]"' in err and "ftp://127.0.0.1:1/in.mp4" in err
         assert not Path("u.mp4").exists()
+
+
+def test_an_output_url_naming_the_input_url_is_refused():
+    url = "ftp://127.0.0.1:1/in.mp4"  # refused before any connection
+    err = fails(None, "video", url, "-o", url, "--overwrite", *ROTATE)
+    assert "names the input; an input is never overwritten" in err

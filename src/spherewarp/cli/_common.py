@@ -25,7 +25,7 @@ from typing import Any
 
 import click
 
-from ..errors import InvalidValueError, OutputExistsError
+from ..errors import InvalidValueError, OutputExistsError, SpherewarpError
 
 __all__ = [
     "POINT",
@@ -621,17 +621,27 @@ def render_options(func: Callable) -> Callable:
     return wrapper
 
 
-def load_input(path: Path, render: RenderOptions | None = None, label: str = "input") -> Any:
+def load_input(path: Path | str, render: RenderOptions | None = None, label: str = "input") -> Any:
     """Read an input image (``ImageData``), refusing a non-2:1 one unless ``--force``.
 
-    The path is registered as read (``label`` names it in an error), so no output may be it.
+    The path is registered as read (``label`` names it in an error), so no output may be it;
+    an fsspec URL (a str, :mod:`spherewarp.io.remote`) is downloaded and read, never written.
     """
     from ..io import read_image
+    from ..io.remote import is_url, local_copy
     from ..render.warp import check_equirect
     from ._files import job
 
-    job().reads(path, label)
-    data = read_image(path, max_pixels=render.max_pixels if render else None)
+    limit = render.max_pixels if render else None
+    if is_url(path):
+        with local_copy(str(path)) as local:
+            try:
+                data = read_image(local, max_pixels=limit)
+            except SpherewarpError as exc:  # name the URL, not the local copy
+                raise type(exc)(exc.cli_message.replace(local, str(path))) from None
+    else:
+        job().reads(path, label)
+        data = read_image(path, max_pixels=limit)
     check_equirect(data.pixels, force=bool(render and render.force), name=str(path))
     return data
 

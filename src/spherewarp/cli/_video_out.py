@@ -20,6 +20,7 @@ import click
 __all__ = [
     "encoding_options",
     "is_video_output",
+    "register_paths",
     "animate_video",
     "segment_options",
     "segment_progress",
@@ -58,11 +59,30 @@ def encoding_options(func: Callable) -> Callable:
     return func
 
 
-def is_video_output(output: Path | None) -> bool:
-    """Whether ``-o`` names a video file (by its extension)."""
+def is_video_output(output: Path | str | None) -> bool:
+    """Whether ``-o`` (a path or an fsspec URL) names a video file (by its extension)."""
+    from ..io.segments import local_name
     from ..io.video import VIDEO_EXTENSIONS
 
-    return output is not None and output.suffix.lower() in VIDEO_EXTENSIONS
+    return output is not None and local_name(output).suffix.lower() in VIDEO_EXTENSIONS
+
+
+def register_paths(inputs: list[tuple[Any, str]], output: Any = None) -> None:
+    """Register the local ``inputs`` (``(path, label)``) as read and a local ``output`` (if
+    any) as written, so that no input is overwritten (:mod:`spherewarp.cli._files`); URLs are
+    read and written through fsspec, and an output URL that names an input is refused."""
+    from ..io.remote import is_url
+    from ._files import job
+
+    for path, label in inputs:
+        if not is_url(path):
+            job().reads(path, label)
+    if output is None:
+        return
+    if not is_url(output):
+        job().writes(output, "-o")
+    elif any(output == path for path, _ in inputs):
+        raise click.BadParameter("names the input; an input is never overwritten", param_hint="-o")
 
 
 class PathOrURL(click.Path):
@@ -202,6 +222,7 @@ def render_frames(
     Frame ``job.first + k`` shows the recipe at ``job.times[k]``, at presentation time
     ``(job.first + k) / job.rate``; ``progress(k + 1)`` after each.
     """
+    from ..io.remote import is_url
     from ..io.segments import _dask_threads, _set_threads, writing_part
     from ..io.videowriter import video_writer
     from ._files import new_job
@@ -209,7 +230,7 @@ def render_frames(
 
     _set_threads(job.threads if job.threads is not None else _dask_threads())
     new_job()
-    srcs = _load_all(tuple(Path(p) for p in job.inputs), job.render)
+    srcs = _load_all(tuple(p if is_url(p) else Path(p) for p in job.inputs), job.render)
     tb = 1 / job.rate
     with writing_part(job.part) as tmp:
         with video_writer(
@@ -257,23 +278,25 @@ def animate_video(
 
     import numpy as np
 
-    from ..io.segments import DEFAULT_SEGMENT_SECONDS, Segmented, join, run_segments
+    from ..io.remote import is_url
+    from ..io.segments import DEFAULT_SEGMENT_SECONDS, Segmented, join, local_name, run_segments
     from ..io.segments import _input_identity as identity_of
     from ..io.spherical import write_spherical
     from ..io.video import muxer
     from ..io.videowriter import EQUIRECT, check_writer, frame_rate
 
-    output = render.output
+    output = render.output if is_url(render.output) else Path(render.output)
+    named = local_name(output)  # its extension picks the container (a URL's too)
     rate = frame_rate(fps)
     first = animate_frame(srcs, recipe.at(times[0]), render)  # the frame's size and depth
     in_pix = "yuv420p" if first.dtype == np.uint8 else "yuv420p10le"
     size = first.shape[:2]
-    enc, out_pix, _, _ = check_writer(output, size, rate, in_pix=in_pix, **encoding)
+    enc, out_pix, _, _ = check_writer(named, size, rate, in_pix=in_pix, **encoding)
     encoding = {**encoding, "codec": enc.name, "pix_fmt": out_pix}  # parts are MP4 files
     quiet = replace(render, quiet=True)  # workers draw no bars
     step = max(1, round((segments["segment"] or DEFAULT_SEGMENT_SECONDS) * float(rate)))
     ranges = [(a, min(a + step, len(times))) for a in range(0, len(times), step)]
-    paths = [os.path.abspath(p) for p in inputs]
+    paths = [p if is_url(p) else os.path.abspath(p) for p in inputs]  # as workers reach them
 
     def job(i: int, part: str) -> FramesJob:
         a, b = ranges[i]
@@ -285,7 +308,7 @@ def animate_video(
     panorama = render.projection in (None, "equirect")
 
     def join_parts(parts: list[Path], tmp: Path) -> None:
-        join(parts, None, tmp, muxer(output))
+        join(parts, None, tmp, muxer(named))
         write_spherical(tmp, EQUIRECT if panorama else None)
 
     pixels = {k: v for k, v in asdict(quiet).items() if k not in ("output", "overwrite")}
@@ -295,7 +318,7 @@ def animate_video(
         sort_keys=True, default=str,
     )  # fmt: skip
     plan = Segmented(
-        output=Path(output), source=[identity_of(Path(p)) for p in paths],
+        output=output, source=[identity_of(p) for p in paths],
         name=", ".join(str(p) for p in inputs), identity=identity,
         segments=[{"index": i, "start": a, "end": b} for i, (a, b) in enumerate(ranges)],
         job=job, render=render_frames, join=join_parts, reads=paths,

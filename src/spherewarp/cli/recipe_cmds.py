@@ -17,7 +17,13 @@ from typing import Any
 import click
 
 from ._common import RealType, RenderOptions, example, render_options
-from ._video_out import encoding_options, is_video_output, refuse_segment_options, segment_options
+from ._video_out import (
+    PathOrURL,
+    encoding_options,
+    is_video_output,
+    refuse_segment_options,
+    segment_options,
+)
 
 __all__ = [
     "render",
@@ -318,14 +324,19 @@ def _load_all(inputs: tuple[Path, ...], render: RenderOptions) -> list[Any]:
     return [load_input(p, render, f"input {k + 1}") for k, p in enumerate(inputs)]
 
 
-def _inputs_argument(func: Callable) -> Callable:
+def _inputs_argument(func: Callable, kind: click.ParamType | None = None) -> Callable:
     return click.argument(
         "inputs",
         nargs=-1,
         required=True,
-        type=click.Path(dir_okay=False, path_type=Path),
+        type=kind or click.Path(dir_okay=False, path_type=Path),
         metavar="INPUT...",
     )(func)
+
+
+def _inputs_or_urls(func: Callable) -> Callable:
+    """INPUT... as paths or fsspec URLs (:class:`~spherewarp.cli._video_out.PathOrURL`)."""
+    return _inputs_argument(func, PathOrURL())
 
 
 @click.command(
@@ -466,7 +477,7 @@ MAX_FRAMES = 100000
     )
 )
 @click.argument("recipe", type=click.Path(dir_okay=False, path_type=Path), metavar="R.json")
-@_inputs_argument
+@_inputs_or_urls
 @click.option("--fps", type=FPS, required=True, help="Frames per second.")
 @click.option(
     "--duration",
@@ -501,12 +512,21 @@ def animate(
     options of `spherewarp video` (--codec, --crf, --preset, --pix-fmt); an
     equirectangular one carries the 360° metadata. A video is rendered in
     segments as `spherewarp video` renders one (--segment, --resume, --jobs,
-    --dask, --progress). The recipe's options apply unless given here.
+    --dask, --progress). INPUT and a video -o may be fsspec URLs
+    (ftp://host/room.jpg, -o ftp://host/out/loop.mp4), read and written as
+    `spherewarp video` reads and writes them. The recipe's options apply
+    unless given here.
     """
+    from dataclasses import replace
+
+    from ..io.remote import is_url
     from ..recipe import Recipe
     from ._common import run_inputs
     from ._files import Job, job, new_job
 
+    given = click.get_current_context().params.get("output")  # -o as typed (a URL stays one)
+    if is_url(given):
+        render = replace(render, output=given)
     job().reads(recipe, "recipe")
     r = Recipe.load(recipe)
     groups = _groups(r, recipe, inputs)
@@ -534,16 +554,17 @@ def _animate_one(
     from dataclasses import replace
 
     from ..errors import InvalidValueError
+    from ..io.remote import is_url
     from ._common import output_name, output_path, save_output
     from ._files import job
+    from ._video_out import register_paths
     from .droste_cmds import frame_paths
     from .mobius_cmds import check_output_suffix
 
     group = tuple(input) if isinstance(input, tuple) else (input,)
-    input = group[0]
+    input = Path(group[0])  # a URL's name names the frames
     job().reads(recipe, "recipe")
-    for k, p in enumerate(group):
-        job().reads(p, f"input {k + 1}" if len(group) > 1 else "input")
+    inputs = [(p, f"input {k + 1}" if len(group) > 1 else "input") for k, p in enumerate(group)]
     if duration is None and r.duration is None:
         raise click.UsageError(f"{recipe} has no duration; give --duration S")
     seconds = r.duration if duration is None else duration
@@ -556,7 +577,15 @@ def _animate_one(
     ctx = click.get_current_context()
     render = _with_recipe_options(ctx, render, r.at(0.0))
     if is_video_output(render.output):
+        register_paths(inputs, render.output)
         return _animate_video(group, render, r, times, fps, encoding, segments)
+    register_paths(inputs)
+    if is_url(render.output):
+        raise click.BadParameter(
+            "numbered images are written to local files only; give a local -o (frames/ or "
+            "frames/%04d.png), or a video (-o ftp://host/out.mp4) to write to a URL",
+            param_hint="-o",
+        )
     refuse_segment_options(segments, "numbered images are written one by one")
     if any(v is not None for v in encoding.values()):
         given = next(k for k, v in encoding.items() if v is not None).replace("_", "-")
@@ -584,15 +613,11 @@ def _animate_video(
     segments: dict[str, Any],
 ) -> None:
     """``animate ... -o OUT.mp4``: the frames encoded into one video, in segments."""
-    from ._files import job
+    from ..io.segments import refuse_existing
     from ._video_out import animate_video
 
     if render.output_dir:
         raise click.BadParameter("names a directory; give a video file", param_hint="-o")
-    job().writes(render.output, "-o")
-    if render.output.exists() and not render.overwrite:
-        from ..errors import OutputExistsError
-
-        raise OutputExistsError(f"{str(render.output)!r} exists; pass --overwrite to replace it")
+    refuse_existing(render.output, render.overwrite)
     srcs = _load_all(group, render)
     animate_video(group, srcs, render, r, times, fps, encoding, segments)

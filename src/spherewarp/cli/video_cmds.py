@@ -14,7 +14,13 @@ from typing import Any
 import click
 
 from ._common import POINT, SIZE, example, view_options
-from ._video_out import PathOrURL, refuse_segment_options, segment_options, segment_progress
+from ._video_out import (
+    PathOrURL,
+    refuse_segment_options,
+    register_paths,
+    segment_options,
+    segment_progress,
+)
 from .branched_cmds import _LOOK_AT_HELP, EXP_SUPERSAMPLE, EXPONENT, POSITIVE
 from .mobius_cmds import ANGLE, FACTOR, MATRIX
 
@@ -259,24 +265,14 @@ def _run(
     as :func:`spherewarp.io.video.render_video` takes it); ``view``: a recipe's, used
     unless the command line names an output grid; ``pose``: what the input's spherical pose
     must follow (default: ``forward``, a turn it follows; with ``pull``, none)."""
-    from ._files import job
-
     o = _take_output(ctx.obj, output, overwrite)
-    from ..io.remote import is_url
     from ..io.sequence import is_frames, is_pattern
 
     sequence = is_frames(o["input"]) or is_frames(o["output"])
     if sequence:
         _register_sequence(o["input"], o["output"])
     else:
-        if not is_url(o["input"]):  # a URL: read through fsspec, never written
-            job().reads(o["input"], "input")
-        if not is_url(o["output"]):
-            job().writes(o["output"], "-o")
-        elif o["output"] == o["input"]:
-            raise click.BadParameter(
-                "names the input; an input is never overwritten", param_hint="-o"
-            )
+        register_paths([(o["input"], "input")], o["output"])
     if o["fps"] is not None and not is_frames(o["input"]):
         raise click.BadParameter(
             "applies to an image sequence input (a video keeps its frame times)",

@@ -4,7 +4,8 @@ A segmented render (:mod:`spherewarp.io.segments`) whose input or output is a UR
 and writes through `fsspec <https://filesystem-spec.readthedocs.io>`_ (installed with
 ``pip install "spherewarp[dask]"``), on the client and on every worker alike:
 
-* an input is opened as a file object that PyAV reads (seeking as it needs);
+* an input is opened as a file object that PyAV reads (seeking as it needs); a still
+  (``animate``'s) is downloaded to a local temporary file and read from it (:func:`local_copy`);
 * a file is written to a local temporary file, uploaded under a temporary name beside
   its destination, then moved into place (:func:`put_atomic`): a half-written segment or
   output is never found by its name;
@@ -20,11 +21,13 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 import secrets
 import shutil
 import tempfile
+from collections.abc import Iterator
 from typing import Any
 
 from ..errors import InvalidValueError
@@ -36,6 +39,7 @@ __all__ = [
     "filesystem",
     "identity",
     "is_url",
+    "local_copy",
     "open_input",
     "put_atomic",
     "read_text",
@@ -109,6 +113,29 @@ def open_input(url: str) -> Any:
     """A binary file object reading ``url`` (for PyAV), on a connection of its own."""
     fs, path = filesystem(url, fresh=True)
     return fs.open(path, "rb")
+
+
+@contextlib.contextmanager
+def local_copy(url: str) -> Iterator[str]:
+    """Download the file ``url`` into a fresh local temporary folder, under its own name, and
+    yield the local path (for a reader that wants a file, such as a still's); the copy is
+    removed when the block ends. An error is one line naming ``url``."""
+    fs, path = filesystem(url, fresh=True)
+    folder = local_copy_dir()
+    try:
+        local = os.path.join(folder, path.rstrip("/").rsplit("/", 1)[-1] or "input")
+        try:
+            with fs.open(path, "rb") as src, open(local, "wb") as dst:
+                shutil.copyfileobj(src, dst, 1 << 20)
+        except FileNotFoundError:
+            raise InvalidValueError(f"cannot read '{url}': no such file") from None
+        except OSError as exc:
+            raise InvalidValueError(f"cannot read '{url}': {exc.strerror or exc}") from None
+        except Exception as exc:  # noqa: BLE001 - a file system's own error (ftplib's, ...)
+            raise InvalidValueError(f"cannot read '{url}': {exc}") from None
+        yield local
+    finally:
+        remove_local(folder)
 
 
 def read_text(url: str) -> str:

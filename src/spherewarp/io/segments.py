@@ -82,8 +82,10 @@ __all__ = [
     "dask_client",
     "frame_times",
     "join",
+    "local_name",
     "parts_dir",
     "plan_segments",
+    "refuse_existing",
     "render_segment",
     "render_segmented",
     "resume_hint",
@@ -649,13 +651,9 @@ def render_segmented(
     """
     input = input if is_url(input) else Path(input)
     output = output if is_url(output) else Path(output)
-    named = Path("output" + _suffix(output))  # what the extension says (a URL's too)
-    _check_output(output if not is_url(output) else named)
-    if not overwrite and (remote.exists(output) if is_url(output) else os.path.lexists(output)):
-        from .atomic import exists_error
-
-        raise exists_error(output)
-    target = named if is_url(output) else output
+    target = local_name(output)  # what the extension says (a URL's too)
+    _check_output(target)
+    refuse_existing(output, overwrite)
     s = prepare(input, target, codec, crf, preset, pix_fmt, stereo, grid, out_shape, force)
     pts, tb = frame_times(input)
     if not pts:
@@ -678,7 +676,7 @@ def render_segmented(
         )  # fmt: skip
 
     def join_parts(parts: list[Path], tmp: Path) -> None:
-        join(parts, input, tmp, muxer(named))
+        join(parts, input, tmp, muxer(target))
         write_spherical(tmp, output_spherical(s.info, s.layout, s.grid, spherical))
 
     def after(elsewhere: bool) -> None:
@@ -816,6 +814,28 @@ def _write_output(output: Path | str, overwrite: bool, write: Callable[[Path], N
         remote.put_atomic(tmp, output)
     finally:
         remote.remove_local(folder)
+
+
+def local_name(output: str | os.PathLike[str]) -> Path:
+    """``output`` as a path, a URL's as a file name of the same extension (what picks the
+    container and the encoder, as a local path's does).
+
+    Examples
+    --------
+    >>> local_name("ftp://host/out/tour.mkv"), local_name("out/tour.mp4")
+    (PosixPath('output.mkv'), PosixPath('out/tour.mp4'))
+    """
+    return Path("output" + _suffix(output)) if is_url(output) else Path(output)
+
+
+def refuse_existing(output: str | os.PathLike[str], overwrite: bool) -> None:
+    """Refuse an existing ``output`` (a path or a URL) unless ``overwrite``, in one line."""
+    if overwrite:
+        return
+    if remote.exists(output) if is_url(output) else os.path.lexists(output):
+        from .atomic import exists_error
+
+        raise exists_error(output)
 
 
 def _suffix(path: Path | str) -> str:
