@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from spherewarp.recipe import Recipe
 from spherewarp.viewer.server import MAX_BODY, STATIC_DIR, ViewerServer
 
 
@@ -100,6 +101,35 @@ def test_stages_of_a_posted_recipe(served):
     status, data, _ = _req(srv, "POST", "/api/stages", json.dumps(exact).encode(), origin)
     assert status == 200
     assert json.loads(data)["stages"]["codes"] is None
+
+
+def test_stages_of_an_animated_recipe_say_where_its_marks_are(served):
+    """An animated recipe's reply has its steps at ``?t`` (the recipe's own tracks
+    evaluated: a loop's time wraps round), where the page draws its marks."""
+    srv, _ = served
+    center = {"keyframes": [[0, [-100, -20]], [2, [20, 10]]], "easing": "smoothstep"}
+    radius = {"keyframes": [[0, 10], [2, 30]]}
+    recipe = {
+        "spherewarp": 1,
+        "duration": 2,
+        "loop": True,
+        "steps": [{"droste": {"center": center, "inner_radius": radius}}],
+    }
+    r = Recipe.from_dict(recipe)
+    for t, tt in ((0.5, 0.5), (3.25, 1.25)):
+        status, data, _ = _req(srv, "POST", f"/api/stages?t={t}", json.dumps(recipe).encode())
+        assert status == 200, data
+        at = json.loads(data)["at"]
+        assert at["time"] == tt
+        got = at["steps"][0]["droste"]
+        want = r.step_values(0, t)
+        assert np.allclose(got["center"], want["center"])
+        assert got["inner_radius"] == want["inner_radius"]
+        assert not np.allclose(got["center"], [-100, -20])
+    # a recipe with no tracks: no "at" (the page draws it as it is)
+    still = {"spherewarp": 1, "steps": [{"droste": {"center": [0, 0], "inner_radius": 9}}]}
+    data = json.loads(_req(srv, "POST", "/api/stages", json.dumps(still).encode())[1])
+    assert "at" not in data
 
 
 @pytest.mark.parametrize(

@@ -23,7 +23,8 @@ Routes
     the recipe's error line):
     :func:`packed_stages`, expression maps as GLSL functions made from their
     syntax tree (:mod:`spherewarp.viewer.glsl`; no text of the recipe reaches
-    the shader).
+    the shader). An animated recipe's reply also has ``"at"``: its steps at that
+    time (:func:`steps_at`), where the page draws the recipe's marks.
 ``GET /api/labels/KEY``
     The labels of a masked Schottky stage (``/api/stages`` names their key), as
     little-endian int16, row-major.
@@ -80,6 +81,7 @@ __all__ = [
     "ViewerServer",
     "byte_range",
     "packed_stages",
+    "steps_at",
     "video_frame",
 ]
 
@@ -134,6 +136,44 @@ def packed_stages(
     if labels is not None:
         labels.update(spec.labels)
     return spec.as_json()
+
+
+def steps_at(recipe: Any, t: float = 0.0) -> dict[str, Any]:
+    """The recipe's steps at time ``t``, as JSON: each track replaced by its value
+    there (the recipe's own tracks evaluated, as a render at ``t`` does), the rest as
+    given.
+
+    Returns ``{"time": T, "steps": [...]}``, ``T`` the time the tracks are evaluated
+    at (``t`` modulo the duration for a loop).
+
+    Examples
+    --------
+    >>> from spherewarp.recipe import Recipe
+    >>> r = Recipe.from_dict({"spherewarp": 1, "duration": 2, "loop": True, "steps": [
+    ...     {"droste": {"center": {"keyframes": [[0, [0, 0]], [2, [40, 20]]]},
+    ...                 "inner_radius": 15}},
+    ...     {"zoom": {"at": [{"keyframes": [[0, 0], [1, 10]]}, 5], "factor": 2}}]})
+    >>> steps_at(r, 2.5)
+    {'time': 0.5, 'steps': [{'droste': {'center': [10.0, 5.0], 'inner_radius': 15}},
+                            {'zoom': {'at': [5.0, 5], 'factor': 2}}]}
+    """
+    from ..recipe.tracks import Track
+
+    def plain(v: Any) -> Any:
+        return [plain(x) for x in v] if isinstance(v, tuple) else v
+
+    def at(given: Any, parsed: Any) -> Any:
+        if isinstance(parsed, Track):
+            return plain(parsed(tt))
+        if isinstance(given, list) and isinstance(parsed, (list, tuple)):
+            if len(given) == len(parsed):
+                return [at(g, p) for g, p in zip(given, parsed, strict=True)]
+        if isinstance(given, dict) and isinstance(parsed, dict):
+            return {k: at(v, parsed.get(k)) for k, v in given.items()}
+        return given
+
+    tt = recipe.time(t)
+    return {"time": tt, "steps": [{s.effect: at(s.given, s.parsed)} for s in recipe.steps]}
 
 
 class LabelCache:
@@ -600,7 +640,10 @@ class _Handler(BaseHTTPRequestHandler):
                 recipe = self._recipe()
                 try:
                     t = self._time() or 0.0  # a video's time: an animated recipe's too
-                    self._json({"stages": packed_stages(recipe, t, labels=self.viewer.labels)})
+                    reply = {"stages": packed_stages(recipe, t, labels=self.viewer.labels)}
+                    if recipe.animated:  # where its marks are at that time
+                        reply["at"] = steps_at(recipe, t)
+                    self._json(reply)
                 except Exception as exc:
                     raise _Error(400, f"recipe: {exc}") from None
             elif path == "/api/render":
