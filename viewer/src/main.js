@@ -319,14 +319,19 @@ function drawMarks() {
 
 // -- the recipe's marks: every Droste step's frame (or its round hole), every Schottky
 // step's disks D_x and D_X with an arrow between them. Handles (a frame's corners, a
-// centre, a disk's centre) can be dragged to edit the step.
+// centre, a disk's centre, a disk's rim) can be dragged to edit the step. An animated
+// recipe's marks are where its effect is at the page's time: its steps at that time, as
+// the server evaluates them with the stages (S.at).
 const isNum = (v) => typeof v === "number" && Number.isFinite(v);
 const isPoint = (p) => Array.isArray(p) && p.length >= 2 && isNum(p[0]) && isNum(p[1]);
 const isDisk = (d) => isPoint(d) && d.length === 3 && isNum(d[2]);
+const isTrack = (v) => !!v && typeof v === "object" && Array.isArray(v.keyframes);
+const marked = () => (animated() && S.at ? S.at : S.recipe);
+const valueAt = (recipe, path) => path.reduce((o, key) => o[key], recipe.steps);
 
 // the shapes of the recipe: {pts, closed, colour, arrow} polylines on the sphere, and
-// handles {at, colour, path} where path names the value in the recipe ([step, ...keys])
-function recipeShapes(recipe = S.recipe) {
+// handles {at, colour, path, disk} where path names the value in the recipe ([step, ...keys])
+function recipeShapes(recipe = marked()) {
   const shapes = [], handles = [];
   (recipe.steps || []).forEach((step, k) => {
     if (step.droste) {
@@ -345,10 +350,10 @@ function recipeShapes(recipe = S.recipe) {
       step.schottky.generators.forEach((g, j) => {
         if (!g || !isDisk(g.disk)) return;
         shapes.push({ pts: circle(g.disk), closed: true, colour: "#7aff4a" });
-        handles.push({ at: g.disk, colour: "#7aff4a", path: [k, "schottky", "generators", j, "disk"] });
+        handles.push({ at: g.disk, colour: "#7aff4a", path: [k, "schottky", "generators", j, "disk"], disk: true });
         if (!isDisk(g.to)) return;
         shapes.push({ pts: circle(g.to), closed: true, colour: "#ff7a4a" });
-        handles.push({ at: g.to, colour: "#ff7a4a", path: [k, "schottky", "generators", j, "to"] });
+        handles.push({ at: g.to, colour: "#ff7a4a", path: [k, "schottky", "generators", j, "to"], disk: true });
         shapes.push({ pts: geodesic(g.disk, g.to), closed: false, colour: "#ffffff", arrow: true });
       });
     }
@@ -356,7 +361,7 @@ function recipeShapes(recipe = S.recipe) {
       step.schottky.targets.forEach((t, j) => {
         if (!t || !isDisk(t.to)) return;
         shapes.push({ pts: circle(t.to), closed: true, colour: "#ff7a4a" });
-        handles.push({ at: t.to, colour: "#ff7a4a", path: [k, "schottky", "targets", j, "to"] });
+        handles.push({ at: t.to, colour: "#ff7a4a", path: [k, "schottky", "targets", j, "to"], disk: true });
       });
     }
   });
@@ -401,27 +406,62 @@ function markPositions() {
   return out;
 }
 
-// the handle within 8 pixels of (px, py) in a panel of this view, the nearest, or null
+// the handle within 8 pixels of (px, py) in a panel of this view, the nearest; else a
+// disk whose rim passes within 5 pixels, as a handle of its radius; else null
 function handleAt(px, py, view) {
   if (!S.marks) return null;
+  const { handles } = recipeShapes();
   let best = null, bd = 8;
-  for (const h of recipeShapes().handles) {
+  for (const h of handles) {
     const q = lonLatToPixel(h.at[0], h.at[1], view);
     const d = q ? Math.hypot(q[0] - px, q[1] - py) : Infinity;
     if (d <= bd) (best = h), (bd = d);
   }
+  if (best) return best;
+  bd = 5;
+  for (const h of handles.filter((h) => h.disk)) {
+    const qs = circle(h.at).map((p) => lonLatToPixel(p[0], p[1], view));
+    qs.forEach((a, j) => {
+      const b = qs[(j + 1) % qs.length];
+      if (!a || !b || Math.abs(b[0] - a[0]) >= S.size[0] / 2) return; // behind, or across the seam
+      const d = segmentDistance([px, py], a, b);
+      if (d <= bd) (best = { ...h, radius: true }), (bd = d);
+    });
+  }
   return best;
 }
 
-// the recipe with the value at path moved to `to` (a disk keeps its radius)
-function movedRecipe(recipe, path, to) {
+// the distance from p to the segment ab (pixels)
+function segmentDistance(p, a, b) {
+  const [dx, dy] = [b[0] - a[0], b[1] - a[1]];
+  const t = Math.max(0, Math.min(1, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy || 1)));
+  return Math.hypot(a[0] + t * dx - p[0], a[1] + t * dy - p[1]);
+}
+
+// the recipe with the handle's value moved to `to`: a point, a disk's centre (its radius
+// kept) or, for a rim, a disk's radius (its centre kept). A value that is a track gets
+// a keyframe at `time` (the one there changed, or one added; see keyed).
+function movedRecipe(recipe, handle, to, time = 0) {
   const r = JSON.parse(JSON.stringify(recipe));
-  let o = r.steps;
-  for (const key of path.slice(0, -1)) o = o[key];
-  const last = path[path.length - 1];
+  const o = valueAt(r, handle.path.slice(0, -1));
+  const last = handle.path[handle.path.length - 1];
   const old = o[last];
-  o[last] = old.length === 3 ? [...round(to), old[2]] : round(to);
+  if (handle.radius) o[last] = [old[0], old[1], round([angle(old, to)])[0]];
+  else o[last] = keyed(old, old.length === 3 ? [...round(to), old[2]] : round(to), time);
   return r;
+}
+
+// `value` in place of `old`, at time t: where old is a track (the whole point, or one
+// coordinate), its keyframe at t becomes value (a keyframe added at t if none is there),
+// so that the effect is where the mark was dropped at that time and keeps its other keys
+function keyed(old, value, t) {
+  if (isTrack(old)) {
+    const frames = old.keyframes.filter((f) => Math.abs(f[0] - t) > 1e-9);
+    frames.push([t, value]);
+    return { ...old, keyframes: frames.sort((a, b) => a[0] - b[0]) };
+  }
+  if (Array.isArray(old) && Array.isArray(value)) return value.map((v, i) => keyed(old[i], v, t));
+  return value;
 }
 
 const unit = (p) => {
@@ -594,8 +634,8 @@ async function pump() {
     const recipe = pending;
     pending = null;
     try {
-      const at = S.video ? `?t=${recipeTime()}` : "";
-      const { stages } = await post(`api/stages${at}`, recipe);
+      const { stages, at } = await post(`api/stages${S.video ? `?t=${recipeTime()}` : ""}`, recipe);
+      S.at = at || null; // an animated recipe's steps at this time: where its marks go
       await uploadStages(stages);
       if (stages.codes) status(`${recipe.steps.length} step(s), ${stages.codes.length} stage(s)`);
     } catch (e) {
@@ -730,8 +770,9 @@ canvas.addEventListener("mousedown", (ev) => {
     return;
   }
   const h = !ev.altKey && handleAt(px, py, panel.view);
-  if (h) {  // a mark of the recipe: drag it to move that corner or centre
-    drag = { handle: h, base: JSON.parse(JSON.stringify(S.recipe)), moved: false, panel: i, view: panel.view };
+  if (h) {  // a mark of the recipe: drag it to move that corner or centre (a rim: the radius)
+    const time = animated() && S.at ? S.at.time : 0; // a track gets its keyframe at the time shown
+    drag = { handle: h, time, base: JSON.parse(JSON.stringify(S.recipe)), moved: false, panel: i, view: panel.view };
     return;
   }
   if (ev.altKey) {  // pin a point (the older pin goes)
@@ -769,7 +810,7 @@ window.addEventListener("mousemove", (ev) => {
   }
   drag.moved = true;
   if (drag.handle) {  // live, unchecked: the server's line shows if it is not a step
-    S.recipe = movedRecipe(drag.base, drag.handle.path, dragAt(ev));
+    S.recipe = movedRecipe(drag.base, drag.handle, dragAt(ev), drag.time);
     refresh();
     return;
   }
@@ -803,10 +844,10 @@ window.addEventListener("mouseup", (ev) => {
 // a mark dropped: the step checked by the server as a new one; kept (undo takes it back)
 // or the recipe as it was before the drag, with the server's line
 async function dropHandle(d, to) {
-  const recipe = movedRecipe(d.base, d.handle.path, to);
+  const recipe = movedRecipe(d.base, d.handle, to, d.time);
   S.recipe = d.base;
   try {
-    await post("api/stages", recipe);
+    await post(`api/stages?t=${d.time}`, recipe); // at the time it was moved at
   } catch (e) {
     refresh(); // the picture of the recipe as it was, then the server's line
     await window.spherewarp.settle();
@@ -814,7 +855,8 @@ async function dropHandle(d, to) {
   }
   commit(recipe);
   await window.spherewarp.settle();
-  status("mark moved");
+  const keyframe = JSON.stringify(valueAt(d.base, d.handle.path)).includes('"keyframes"');
+  status((d.handle.radius ? "disk radius changed" : "mark moved") + (keyframe ? ` (keyframe at t = ${d.time} s)` : ""));
 }
 
 canvas.addEventListener(
