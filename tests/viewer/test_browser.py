@@ -768,3 +768,158 @@ def test_dragging_a_mark_in_the_sphere_panel(page):
         assert np.hypot(at[0] + W - to[0], at[1] - to[1]) <= 2.0, (at, to)
     finally:
         page.select_option("#side", "")
+
+
+def test_marks_hidden_by_the_url_on_load(browser, served):
+    """``?marks=0``: the page starts with the checkbox off and nothing on the marks layer
+    (the picture as ever); ticking the box shows them and drops the parameter."""
+    from urllib.parse import quote
+
+    pg = browser.new_page(viewport={"width": 1000, "height": 600})
+    try:
+        pg.goto(served.url + f"?view=flat&size={W}x{H}&marks=0&recipe={quote(json.dumps(MARKED))}")
+        pg.wait_for_function(
+            "window.spherewarp && (window.spherewarp.ready || window.spherewarp.error)"
+        )
+        assert pg.evaluate("window.spherewarp.error") is None
+        pg.evaluate("window.spherewarp.settle()")
+        assert pg.evaluate("window.spherewarp.S.recipe") == MARKED
+        assert not pg.is_checked("#show-marks")
+        assert pg.evaluate("window.spherewarp.markPositions()") == []
+        marks = canvas_png(pg, "marks")
+        assert marks.shape[:2] == (H, W) and marks[..., 3].max() == 0
+        assert pg.evaluate("new URLSearchParams(location.search).get('marks')") == "0"
+        assert psnr(shown(pg), cpu(served, MARKED)) >= 35
+        pg.check("#show-marks")
+        assert pg.evaluate("new URLSearchParams(location.search).get('marks')") is None
+        assert len(pg.evaluate("window.spherewarp.markPositions()")) == 4 + 1 + 4
+        assert canvas_png(pg, "marks")[..., 3].max() > 200
+    finally:
+        pg.close()
+
+
+def test_dragging_a_disk_rim_changes_its_radius(page, served, tmp_path):
+    """A Schottky disk's rim, dragged: its radius (the centre kept), checked by the server
+    and undone as a centre's move; the marks drawn again round the new rim."""
+    pair = {
+        "spherewarp": 1,
+        "steps": [{"schottky": {"generators": [{"disk": [-90, 0, 15], "to": [90, 0, 12]}]}}],
+    }
+    set_recipe(page, pair)
+    box = page.locator("#view").bounding_box()
+    rim = pixel_from_lonlat_deg(np.array([-75.0, 0.0]), W, H)  # the rim's east point
+    to = pixel_from_lonlat_deg(np.array([-67.5, 0.0]), W, H)  # 22.5 degrees from the centre
+    drag_to(page, box, tuple(rim), tuple(to))
+    page.wait_for_function(
+        "document.getElementById('status').textContent === 'disk radius changed'"
+    )
+    gen = page.evaluate("window.spherewarp.S.recipe.steps[0].schottky.generators[0]")
+    disk = gen["disk"]
+    assert disk[:2] == [-90, 0]
+    assert abs(disk[2] - 22.5) <= 0.5, disk
+    assert gen["to"] == [90, 0, 12]
+    # the rim is drawn where it now is, and not where it was
+    marks = canvas_png(page, "marks")
+    new_rim = pixel_from_lonlat_deg(np.array([-90 + disk[2], 0.0]), W, H)
+    xi, yi = int(round(new_rim[0])), int(round(new_rim[1]))
+    assert marks[yi - 2 : yi + 3, xi - 2 : xi + 3, 3].max() > 200
+    xi = int(round(rim[0]))
+    assert marks[yi - 2 : yi + 3, xi - 1 : xi + 2, 3].max() == 0
+    value = replay(served, page, tmp_path)
+    print(f"schottky disk radius dragged: replay PSNR {value:.2f} dB")
+    assert value >= 35
+    # undo takes it back; a radius dragged to nothing: the server's line, nothing changes
+    page.click("#undo")
+    page.evaluate("window.spherewarp.settle()")
+    assert page.evaluate("window.spherewarp.S.recipe") == pair
+    centre = pixel_from_lonlat_deg(np.array([-90.0, 0.0]), W, H)
+    drag_to(page, box, tuple(rim), tuple(centre))
+    page.wait_for_function("document.getElementById('status').className === 'bad'")
+    assert "moving the mark" in page.text_content("#status")
+    page.evaluate("window.spherewarp.settle()")
+    assert page.evaluate("window.spherewarp.S.recipe") == pair
+
+
+def test_marks_follow_keyframes_and_a_drag_sets_a_keyframe(browser, video, tmp_path):
+    """An animated recipe over a video: its marks are where the effect is at the frame
+    shown (the server's tracks at the video's time); a keyframed centre dragged there gets
+    a keyframe at that time (added, then changed), its other keyframes kept."""
+    srv = ViewerServer(video, None)
+    pg = browser.new_page(viewport={"width": 1000, "height": 600})
+    try:
+        pg.goto(srv.url + f"?view=flat&size={W}x{H}")
+        pg.wait_for_function(
+            "window.spherewarp && (window.spherewarp.ready || window.spherewarp.error)"
+        )
+        assert pg.evaluate("window.spherewarp.error") is None
+        center = {"keyframes": [[0, [-100, -20]], [2, [20, 10]]]}
+        radius = {"keyframes": [[0, 10], [2, 20]]}
+        recipe = {
+            "spherewarp": 1,
+            "steps": [{"droste": {"center": center, "inner_radius": radius}}],
+        }
+        set_recipe(pg, recipe)
+        frames = decoded(video)
+        k = 5
+        t = k / FPS  # the recipe's time at the frame shown
+        pg.evaluate("t => window.spherewarp.seek(t)", (k + 0.5) / FPS)
+        box = pg.locator("#view").bounding_box()
+
+        def centre_mark():
+            pos = pg.evaluate("window.spherewarp.markPositions()")
+            (c,) = [p for p in pos if p["path"] == [0, "droste", "center"]]
+            return c
+
+        want = Recipe.from_dict(recipe).step_values(0, t)  # [-25, -1.25], radius 16.25
+        c = centre_mark()
+        at = pixel_from_lonlat_deg(np.array(want["center"], float), W, H)
+        assert np.hypot(c["x"] - at[0], c["y"] - at[1]) <= 1.0, (c, at)
+        marks = canvas_png(pg, "marks")
+        xi, yi = int(round(c["x"])), int(round(c["y"]))
+        assert marks[yi - 4 : yi + 5, xi - 4 : xi + 5, 3].max() > 200
+        # the hole's circle: radius 16.25 at t, above the centre (not 10, as at t = 0)
+        top = pixel_from_lonlat_deg(np.array([want["center"][0], -1.25 + 16.25]), W, H)
+        xi, yi = int(round(top[0])), int(round(top[1]))
+        assert marks[yi - 1 : yi + 2, xi - 2 : xi + 3, 3].max() > 200
+        start = pixel_from_lonlat_deg(np.array([-100.0, -20.0]), W, H)  # the t = 0 centre
+        xi, yi = int(round(start[0])), int(round(start[1]))
+        assert marks[yi - 4 : yi + 5, xi - 4 : xi + 5, 3].max() == 0
+        # dragged at t: a keyframe added there, the first and last kept
+        drag_to(pg, box, (c["x"], c["y"]), (c["x"] + 12, c["y"] - 9))
+        pg.wait_for_function(
+            f"document.getElementById('status').textContent === "
+            f"'mark moved (keyframe at t = {t:g} s)'"
+        )
+        got = pg.evaluate("window.spherewarp.S.recipe.steps[0].droste")
+        assert got["inner_radius"] == radius
+        kf = got["center"]["keyframes"]
+        assert [f[0] for f in kf] == [0, t, 2]
+        assert kf[0] == center["keyframes"][0] and kf[2] == center["keyframes"][1]
+        moved = pixel_from_lonlat_deg(np.array(kf[1][1], float), W, H)
+        assert np.hypot(moved[0] - c["x"] - 12, moved[1] - c["y"] + 9) <= 2.0, moved
+        c = centre_mark()  # the mark is where it was dropped
+        assert np.hypot(c["x"] - moved[0], c["y"] - moved[1]) <= 1.0
+        # the picture is the recipe's at t, as 'spherewarp render' makes it
+        edited = pg.evaluate("window.spherewarp.S.recipe")
+        out = Recipe.from_dict({**edited, "view": {"size": [W, H]}}).render(frames[k], t=t)
+        want_px = np.asarray(getattr(out, "pixels", out))[..., :3].astype(np.float64)
+        value = psnr(shown(pg), want_px)
+        print(f"keyframed droste centre dragged at t = {t:g}: PSNR {value:.2f} dB")
+        assert value >= 35
+        (tmp_path / "keyframed.png").write_bytes(pg.screenshot())
+        # dragged again at t: that keyframe changed, none added
+        drag_to(pg, box, (c["x"], c["y"]), (c["x"] - 6, c["y"] + 4))
+        pg.wait_for_function(
+            "window.spherewarp.S.recipe.steps[0].droste.center.keyframes[1][1][0] !== "
+            f"{kf[1][1][0]}"
+        )
+        again = pg.evaluate("window.spherewarp.S.recipe.steps[0].droste.center.keyframes")
+        assert [f[0] for f in again] == [0, t, 2]
+        # undo, twice: the recipe as it was
+        pg.click("#undo")
+        pg.click("#undo")
+        pg.evaluate("window.spherewarp.settle()")
+        assert pg.evaluate("window.spherewarp.S.recipe") == recipe
+    finally:
+        pg.close()
+        srv.close()
