@@ -355,3 +355,17 @@ def test_each_segment_closes_its_containers_and_joins_its_threads(tmp_path, monk
     assert [n for n, _ in left] == [before[0]] * 4  # no container, stream or codec context
     # no thread either (the render's own pool of warp threads starts with the first segment)
     assert [t for _, t in left] == [left[0][1]] * 4
+
+
+def test_each_segment_gives_its_memory_back(tmp_path, monkeypatch):
+    import spherewarp.io.segments as segments
+    from videoclip import make_clip
+
+    segments.release_memory()  # glibc's malloc_trim, or nothing: never an error
+    calls = []
+    monkeypatch.setattr(segments, "release_memory", lambda: calls.append(1))
+    clip = make_clip(tmp_path / "in.mp4", frames=12, audio=False)
+    turn = Mobius.from_yaw_pitch_roll(30, 0, 0).inverse()
+    segments.render_segmented(clip, tmp_path / "out.mp4", lambda t: (turn, {}),
+                              segment_seconds=0.125)  # fmt: skip
+    assert len(calls) == 4  # once after each segment
