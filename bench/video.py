@@ -3,6 +3,8 @@ and the peak memory of a 1-minute clip.
 
     python bench/video.py [--size 3840x1920] [--frames 48] [--repeat 2] [--pitch 0]
     python bench/video.py --memory [--memory-size 1280x640] [--memory-seconds 10,60]
+    python bench/video.py --memory --memory-size 3840x1920 --memory-seconds 20 \
+        --memory-segments 20,10,2,1,0.5
 
 Generates a clip (the bundled panorama turning, H.264), then in one run times
 ``spherewarp video IN -o OUT rotate --yaw 30 --pitch P`` and ``ffmpeg -i IN -vf
@@ -20,7 +22,10 @@ in a fresh process, and prints each one's peak resident memory (the most any
 child process held: ``getrusage(RUSAGE_CHILDREN).ru_maxrss``); it asserts the
 design: the minute costs no more than a few frames over the 10 seconds (the
 pipeline's queues hold a few frames, whatever the length), and a few MiB for
-rendering in more than one segment.
+rendering in more than one segment. With ``--memory-segments S,...`` it renders the first
+``--memory-seconds`` clip once for each ``--segment S`` instead (many segments without a long
+clip), each in a fresh process, ``--memory-repeat`` times, and prints each run's peak: what
+memory does with the number of segments.
 """
 
 from __future__ import annotations
@@ -145,6 +150,24 @@ def memory(a: argparse.Namespace, d: Path) -> None:
     assert grown < 8 * frame + 16 * 2**20, "memory grows with the length: frames are being held"
 
 
+def memory_segments(a: argparse.Namespace, d: Path) -> None:
+    """Peak memory of one clip rendered in segments of each ``--memory-segments`` length."""
+    w, h = (int(x) for x in a.memory_size.split("x"))
+    seconds = int(a.memory_seconds.split(",")[0])
+    clip, out = d / f"m{seconds}.mp4", d / f"m{seconds}-out.mp4"
+    make_clip(clip, w, h, 24 * seconds)
+    print(f"{w}x{h}, {seconds} s ({24 * seconds} frames), libx264 CRF 18 ultrafast, rotate yaw 30,")
+    print("peak resident memory by segment length (one fresh process each run)")
+    for seg in a.memory_segments.split(","):
+        segments = -(-24 * seconds // max(1, round(24 * float(seg))))
+        cmd = [sys.executable, "-m", "spherewarp", "video", str(clip), "-o", str(out), "--quiet"]
+        cmd += ["--overwrite", "--crf", "18", "--preset", "ultrafast", "--segment", seg]
+        cmd += ["rotate", "--yaw", "30"]
+        peaks = [peak_rss(cmd) / 2**20 for _ in range(a.memory_repeat)]
+        shown = " / ".join(f"{p:.1f}" for p in peaks)
+        print(f"  --segment {seg:>4s} ({segments:3d} segments): {shown} MiB", flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--size", default="3840x1920")
@@ -160,11 +183,18 @@ def main() -> None:
     ap.add_argument("--memory", action="store_true", help="peak memory of a 1-minute clip")
     ap.add_argument("--memory-size", default="1280x640")
     ap.add_argument("--memory-seconds", default="10,60", help="clip lengths, shortest first")
+    ap.add_argument(
+        "--memory-segments",
+        default="",
+        help="segment lengths (seconds, e.g. 20,2,1): render the first --memory-seconds clip "
+        "with each --segment instead",
+    )
+    ap.add_argument("--memory-repeat", type=int, default=1, help="runs of each --memory-segments")
     a = ap.parse_args()
     w, h = (int(x) for x in a.size.split("x"))
     d = Path(tempfile.mkdtemp())
     if a.memory:
-        memory(a, d)
+        (memory_segments if a.memory_segments else memory)(a, d)
         shutil.rmtree(d)
         return
     ffmpeg = shutil.which("ffmpeg")

@@ -318,3 +318,54 @@ def test_a_static_map_is_planned_once_for_all_segments(tmp_path, monkeypatch):
     render_segmented(clip, tmp_path / "out.mp4", lambda t: (turn, {}), segment_seconds=0.125)
     assert len(frame_times(tmp_path / "out.mp4")[0]) == 12
     assert len(made) == 1  # 4 segments of 3 frames, one plan
+
+
+def test_each_segment_closes_its_containers_and_joins_its_threads(tmp_path, monkeypatch):
+    """Nothing of a segment outlives it: no container, stream or codec context is left for
+    the garbage collector, and its decode and encode threads have ended."""
+    import gc
+    import threading
+
+    import spherewarp.io.segments as segments
+    from videoclip import make_clip
+
+    clip = make_clip(tmp_path / "in.mp4", frames=12, audio=False)
+    turn = Mobius.from_yaw_pitch_roll(30, 0, 0).inverse()
+    render = segments.render_segment
+    kinds = (av.container.Container, av.codec.context.CodecContext, av.stream.Stream)
+    left = []
+
+    def alive():
+        return sum(isinstance(o, kinds) for o in gc.get_objects()), threading.active_count()
+
+    def checked(job, progress=None):
+        result = render(job, progress)
+        left.append(alive())
+        return result
+
+    monkeypatch.setattr(segments, "render_segment", checked)
+    gc.collect()
+    before = alive()
+    gc.disable()  # what a segment leaves in a reference cycle stays where it can be counted
+    try:
+        segments.render_segmented(clip, tmp_path / "out.mp4", lambda t: (turn, {}),
+                                  segment_seconds=0.125)  # fmt: skip
+    finally:
+        gc.enable()
+    assert [n for n, _ in left] == [before[0]] * 4  # no container, stream or codec context
+    # no thread either (the render's own pool of warp threads starts with the first segment)
+    assert [t for _, t in left] == [left[0][1]] * 4
+
+
+def test_each_segment_gives_its_memory_back(tmp_path, monkeypatch):
+    import spherewarp.io.segments as segments
+    from videoclip import make_clip
+
+    segments.release_memory()  # glibc's malloc_trim, or nothing: never an error
+    calls = []
+    monkeypatch.setattr(segments, "release_memory", lambda: calls.append(1))
+    clip = make_clip(tmp_path / "in.mp4", frames=12, audio=False)
+    turn = Mobius.from_yaw_pitch_roll(30, 0, 0).inverse()
+    segments.render_segmented(clip, tmp_path / "out.mp4", lambda t: (turn, {}),
+                              segment_seconds=0.125)  # fmt: skip
+    assert len(calls) == 4  # once after each segment

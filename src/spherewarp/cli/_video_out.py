@@ -222,6 +222,17 @@ def render_frames(
     Frame ``job.first + k`` shows the recipe at ``job.times[k]``, at presentation time
     ``(job.first + k) / job.rate``; ``progress(k + 1)`` after each.
     """
+    from ..io.segments import release_memory
+
+    try:
+        return _render_frames(job, progress)
+    finally:
+        release_memory()  # what the segment's encoder and frames freed
+
+
+def _render_frames(
+    job: FramesJob, progress: Callable[[int], None] | None = None
+) -> tuple[int, int, int]:
     from ..io.remote import is_url
     from ..io.segments import _dask_threads, _set_threads, writing_part
     from ..io.videowriter import video_writer
