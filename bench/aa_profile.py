@@ -91,11 +91,21 @@ def cost_profile(img: np.ndarray, m) -> dict:
     h, w = img.shape[:2]
     px = np.stack(np.broadcast_arrays(np.arange(w)[None, :] + 0.5, np.arange(h)[:, None] + 0.5), -1)
     lonlat = coords.lonlat_from_pixel(px, w, h)
-    pb = m.pull(coords.cp1_from_lonlat(lonlat))
+    zw = coords.cp1_from_lonlat(lonlat)
+    pb = m.pull(zw)
     uv = coords.pixel_from_lonlat(coords.lonlat_from_cp1(pb.points), w, h) - 0.5
-    _, nx, ny = _aa.area_footprints(uv[..., 0], uv[..., 1], pb.valid, lonlat[:, 0, 1], (h, w),
-                                   (h, w))  # fmt: skip
-    parts = np.where(nx * ny > 1, nx * ny, 0)
+    # as the renderer counts them: with the magnification (footprints smaller than it says
+    # are jumps, plain taps) and without the slivers (one tap of their box: not parts; their
+    # bend test aside)
+    scale = np.nan_to_num(m.local_scale(zw), nan=1.0, posinf=1e6)
+    J, nx, ny = _aa.area_footprints(uv[..., 0], uv[..., 1], pb.valid, lonlat[:, 0, 1], (h, w),
+                                    (h, w), scale=scale)  # fmt: skip
+    split = nx * ny > 1
+    cos_src = np.sin(np.pi * (uv[..., 1] + 0.5) / h)
+    sliver = (
+        split & (np.hypot(J[2], J[3]) <= _aa.AREA_SLIVER_BOX) & (cos_src < _aa.AREA_SLIVER_ROWS)
+    )
+    parts = np.where(split & ~sliver, nx * ny, 0)
     polar = np.minimum(uv[..., 1] + 0.5, h - uv[..., 1] - 0.5) < 0.05 * h
     capped = np.maximum(nx, ny) >= _aa.AUTO_MAX
     t = {k: _thread_ms(lambda k=k: warp(img, m, antialias=k, threads=1)) for k in ("none", "area")}
@@ -110,6 +120,7 @@ def cost_profile(img: np.ndarray, m) -> dict:
     return {
         "ms_1_thread": t,
         "parts": n,
+        "sliver_pixels": float(sliver.mean()),
         "parts_per_pixel": n / parts.size,
         "parts_share_polar_5pct": float(parts[polar].sum() / max(n, 1)),
         "parts_share_capped": float(parts[capped].sum() / max(n, 1)),
@@ -164,7 +175,8 @@ def main() -> None:
         print(
             f"   cost of area, 1 thread (CPU time): {t['area']:.1f} ms = base {t['base']:.1f} ms "
             f"(one tap a pixel) + parts {t['area'] - t['base']:.1f} ms ({cost['parts'] / 1e6:.2f} M"
-            f" parts, {cost['parts_per_pixel']:.2f} a pixel, {cost['ns_per_part']:.0f} ns each; "
+            f" parts, {cost['parts_per_pixel']:.2f} a pixel, {cost['ns_per_part']:.0f} ns each, "
+            f"slivers aside: {cost['sliver_pixels']:.0%} of the pixels; "
             f"{cost['parts_share_polar_5pct']:.0%} from pixels whose source lies within 5% of "
             f"the rows from a pole of the input, {cost['parts_share_capped']:.0%} from pixels "
             f"split {_aa.AUTO_MAX} ways along an axis, the cap); none {t['none']:.1f} ms, "
