@@ -69,14 +69,19 @@ def served(mask_file):
     srv.close()
 
 
-@pytest.fixture(scope="module")
-def page(browser, served):
-    pg = browser.new_page(viewport={"width": 1000, "height": 600})
-    pg.goto(served.url + f"?view=flat&size={W}x{H}")
+def load(pg, url: str) -> None:
+    """Open the page at ``url`` and wait until it is ready (no error)."""
+    pg.goto(url)
     pg.wait_for_function(
         "window.spherewarp && (window.spherewarp.ready || window.spherewarp.error)"
     )
     assert pg.evaluate("window.spherewarp.error") is None
+
+
+@pytest.fixture(scope="module")
+def page(browser, served):
+    pg = browser.new_page(viewport={"width": 1000, "height": 600})
+    load(pg, served.url + f"?view=flat&size={W}x{H}")
     yield pg
     pg.close()
 
@@ -515,11 +520,7 @@ def test_video_plays_warped(browser, video, tmp_path):
     srv = ViewerServer(video, None)
     pg = browser.new_page(viewport={"width": 1000, "height": 600})
     try:
-        pg.goto(srv.url + f"?view=flat&size={W}x{H}")
-        pg.wait_for_function(
-            "window.spherewarp && (window.spherewarp.ready || window.spherewarp.error)"
-        )
-        assert pg.evaluate("window.spherewarp.error") is None
+        load(pg, srv.url + f"?view=flat&size={W}x{H}")
         # it plays: the time and the picture change
         pg.evaluate("window.spherewarp.S.video.play()")
         n0 = pg.evaluate("window.spherewarp.S.frames")
@@ -780,11 +781,7 @@ def test_marks_hidden_by_the_url_on_load(browser, served):
 
     pg = browser.new_page(viewport={"width": 1000, "height": 600})
     try:
-        pg.goto(served.url + f"?view=flat&size={W}x{H}&marks=0&recipe={quote(json.dumps(MARKED))}")
-        pg.wait_for_function(
-            "window.spherewarp && (window.spherewarp.ready || window.spherewarp.error)"
-        )
-        assert pg.evaluate("window.spherewarp.error") is None
+        load(pg, served.url + f"?view=flat&size={W}x{H}&marks=0&recipe={quote(json.dumps(MARKED))}")
         pg.evaluate("window.spherewarp.settle()")
         assert pg.evaluate("window.spherewarp.S.recipe") == MARKED
         assert not pg.is_checked("#show-marks")
@@ -853,11 +850,7 @@ def test_marks_follow_keyframes_and_a_drag_sets_a_keyframe(browser, video, tmp_p
     srv = ViewerServer(video, None)
     pg = browser.new_page(viewport={"width": 1000, "height": 600})
     try:
-        pg.goto(srv.url + f"?view=flat&size={W}x{H}")
-        pg.wait_for_function(
-            "window.spherewarp && (window.spherewarp.ready || window.spherewarp.error)"
-        )
-        assert pg.evaluate("window.spherewarp.error") is None
+        load(pg, srv.url + f"?view=flat&size={W}x{H}")
         center = {"keyframes": [[0, [-100, -20]], [2, [20, 10]]]}
         radius = {"keyframes": [[0, 10], [2, 20]]}
         recipe = {
