@@ -120,6 +120,33 @@ def test_a_batch_of_stills_on_dask_equals_the_local_files(workdir, cluster):
         assert hashlib.sha256(a).digest() == hashlib.sha256(b).digest(), n
 
 
+def test_render_urls_on_dask_equal_the_local_files(workdir, cluster, ftp):
+    rng = np.random.default_rng(8)
+    (ftp.root / "rd").mkdir()
+    names = []
+    for k in range(3):
+        img = np.roll(rng.integers(0, 255, (32, 64, 3), dtype=np.uint8), k, axis=1)
+        names.append(write_image(workdir / f"u{k}.png", img).name)
+        write_image(ftp.root / "rd" / names[-1], img)
+    ok(None, "rotate", names[0], "--yaw", "40", "--pitch", "10", "--save-recipe", "r.json",
+       "--dry-run")  # fmt: skip
+    ok(None, "render", "r.json", *names, "-o", "local/")
+    urls = [f"{ftp.url}/rd/{n}" for n in names]
+    code, out, err = run(None, "render", "r.json", *urls, "-o", "remote/", "--dask",
+                         cluster.address)  # fmt: skip
+    assert code == 0 and err == "", err
+    assert len(out.splitlines()) == 3
+    for n in names:
+        a = (workdir / "local" / n.replace(".png", "-render.png")).read_bytes()
+        b = (workdir / "remote" / n.replace(".png", "-render.png")).read_bytes()
+        assert hashlib.sha256(a).digest() == hashlib.sha256(b).digest(), n
+    assert sorted(p.name for p in (ftp.root / "rd").iterdir()) == names  # never written
+    code, _, err = run(None, "render", "r.json", "ftp://127.0.0.1:1/u0.png", "--dask",
+                       cluster.address)  # fmt: skip
+    assert code == 2 and err.count("\n") == 1, err
+    assert "cannot reach 'ftp://127.0.0.1:1/u0.png'" in err
+
+
 def test_animate_on_dask_gives_the_same_file(workdir, cluster):
     from test_animate_segments import SPIN
 

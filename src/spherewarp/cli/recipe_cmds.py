@@ -347,7 +347,7 @@ def _inputs_or_urls(func: Callable) -> Callable:
     )
 )
 @click.argument("recipe", type=click.Path(dir_okay=False, path_type=Path), metavar="R.json")
-@_inputs_argument
+@_inputs_or_urls
 @click.option(
     "--time",
     "time",
@@ -360,11 +360,15 @@ def _inputs_or_urls(func: Callable) -> Callable:
     "--dask",
     metavar="ADDRESS",
     help="Render the INPUTs on the workers of this Dask scheduler (tcp://host:8786), which "
-    "read them (and R.json) by the same path; the files are written here.",
+    "read them (and R.json) by the same path or URL; the files are written here.",
 )
 @render_options
 def render(
-    inputs: tuple[Path, ...], render: RenderOptions, recipe: Path, time: float, dask: str | None
+    inputs: tuple[Path | str, ...],
+    render: RenderOptions,
+    recipe: Path,
+    time: float,
+    dask: str | None,
 ) -> None:
     """Render a recipe (R.json, as --save-recipe writes it) on INPUT.
 
@@ -373,11 +377,19 @@ def render(
     split screen, Droste's --inside images) takes them all, in order, as one render;
     otherwise each INPUT is rendered in turn. With --dask the images are warped on
     a Dask cluster's workers, all at once, and written here as without it.
+    INPUT may be an fsspec URL (ftp://host/room.jpg), read as `spherewarp
+    animate` reads its still (by each worker with --dask); the output is a local
+    file, named from the URL's file name (room-render.jpg).
     """
+    from ..io.remote import is_url
     from ..recipe import Recipe
     from ._common import run_inputs
     from ._files import Job, job, new_job
 
+    if is_url(click.get_current_context().params.get("output")):
+        raise click.BadParameter(
+            "render writes local files only; give a local -o (OUT.jpg or DIR/)", param_hint="-o"
+        )
     job().reads(recipe, "recipe")
     r = Recipe.load(recipe)
     frame = r.at(time)
@@ -398,13 +410,15 @@ def _render_one(
 ) -> None:
     from ._common import output_path, save_output
     from ._files import job
+    from ._video_out import register_paths
     from .mobius_cmds import check_output_suffix
 
     group = tuple(input) if isinstance(input, tuple) else (input,)
     job().reads(recipe, "recipe")
-    for k, p in enumerate(group):
-        job().reads(p, f"input {k + 1}" if len(group) > 1 else "input")
-    check_output_suffix(output_path(render, group[0], "render"))  # refuse a bad output early
+    register_paths([(p, f"input {k + 1}" if len(group) > 1 else "input")
+                    for k, p in enumerate(group)])  # fmt: skip
+    # refuse a bad output early (a URL's file name names it, as a local file's does)
+    check_output_suffix(output_path(render, Path(group[0]), "render"))
     srcs = _load_all(group, render)
     if dask is None:
         out, gpano = _render_frame(srcs, frame, render, "render")
@@ -418,21 +432,22 @@ class _DaskBatch:
     """The INPUTs of one ``render --dask`` run, all sent to the workers at the first one
     (each then waits for its own result, so the batch renders in parallel)."""
 
-    def __init__(self, address: str, recipe: Path, inputs: list[Path], render: RenderOptions,
+    def __init__(self, address: str, recipe: Path, inputs: list[Path | str], render: RenderOptions,
                  time: float) -> None:  # fmt: skip
         import os
 
+        from ..io.remote import is_url
         from ..io.segments import check_workers, dask_client
 
         self.client = dask_client(address)
-        paths = [os.path.abspath(p) for p in (recipe, *inputs)]
+        paths = [p if is_url(p) else os.path.abspath(p) for p in (recipe, *inputs)]
         check_workers(self.client, paths)
         self.futures = {
             p: self.client.submit(_remote_still, a, paths[0], render, time, pure=False)
             for p, a in zip(inputs, paths[1:], strict=True)
         }
 
-    def result(self, input: Path) -> tuple[Any, Any]:
+    def result(self, input: Path | str) -> tuple[Any, Any]:
         return self.futures[input].result()
 
 
@@ -451,7 +466,9 @@ def _dask_batch(
 
 
 def _remote_still(input: str, recipe: str, render: RenderOptions, time: float) -> tuple[Any, Any]:
-    """On a Dask worker: the pixels of ``recipe`` at ``time`` on ``input``, and the GPano."""
+    """On a Dask worker: the pixels of ``recipe`` at ``time`` on ``input`` (a path or a URL),
+    and the GPano."""
+    from ..io.remote import is_url
     from ..io.segments import _dask_threads, _set_threads
     from ..recipe import Recipe
     from ._common import load_input
@@ -459,7 +476,7 @@ def _remote_still(input: str, recipe: str, render: RenderOptions, time: float) -
 
     _set_threads(_dask_threads())
     new_job()
-    src = load_input(Path(input), render)
+    src = load_input(input if is_url(input) else Path(input), render)
     return _render_frame(src, Recipe.load(recipe).at(time), render, "render")
 
 
