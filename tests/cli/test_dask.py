@@ -114,6 +114,11 @@ def test_a_batch_of_stills_on_dask_equals_the_local_files(workdir, cluster):
                          cluster.address)  # fmt: skip
     assert code == 0 and err == "", err
     assert len(out.splitlines()) == 20
+    same_renders(workdir, names)
+
+
+def same_renders(workdir, names) -> None:
+    """``render``'s files of ``names`` in local/ and remote/ are byte for byte the same."""
     for n in names:
         a = (workdir / "local" / n.replace(".png", "-render.png")).read_bytes()
         b = (workdir / "remote" / n.replace(".png", "-render.png")).read_bytes()
@@ -136,10 +141,7 @@ def test_render_urls_on_dask_equal_the_local_files(workdir, cluster, ftp):
                          cluster.address)  # fmt: skip
     assert code == 0 and err == "", err
     assert len(out.splitlines()) == 3
-    for n in names:
-        a = (workdir / "local" / n.replace(".png", "-render.png")).read_bytes()
-        b = (workdir / "remote" / n.replace(".png", "-render.png")).read_bytes()
-        assert hashlib.sha256(a).digest() == hashlib.sha256(b).digest(), n
+    same_renders(workdir, names)
     assert sorted(p.name for p in (ftp.root / "rd").iterdir()) == names  # never written
     code, _, err = run(None, "render", "r.json", "ftp://127.0.0.1:1/u0.png", "--dask",
                        cluster.address)  # fmt: skip

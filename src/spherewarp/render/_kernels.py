@@ -1619,7 +1619,7 @@ def area_batch(img, U, V, BX, BY, n, keep, own, acc, cover, WS, X0, Y0):
 
 
 @njit(**_V)
-def _area_counts(U, V, valid, n, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BX, BY, S, E,
+def _area_counts(U, V, valid, n, cl, wi, ho, wo, tol, cap, nx, ny, special, J, BX, BY, S, E,
                  T, G, aa_kx, aa_ky, jmin, split):  # fmt: skip
     """Footprints (``J``, boxes ``BX x BY``) and samples per pixel of
     ``antialias="area"``; returns the number of special pixels.
@@ -2743,7 +2743,7 @@ def render_spec(
             elif area:
                 _edge_source(cl, sl, ecc, ecs, codes, params, mob1, kx, ky, EF, evalid)
                 nsp = _area_counts(
-                    U, V, valid, w, cl, hi, wi, ho, wo, tol, cap, nx, ny, special, J, BXc, BYc, AS,
+                    U, V, valid, w, cl, wi, ho, wo, tol, cap, nx, ny, special, J, BXc, BYc, AS,
                     EF[5:7], T, G, aa_kx, aa_ky, jmin, split,
                 )  # fmt: skip
             elif do_aa:
