@@ -12,7 +12,9 @@ An interrupt that arrives while Python code runs as a C callback (numba's
 kernel cache, through llvmlite and ctypes) or in ``__del__`` is not raised
 there (Python would print it and drop it): SIGALRM raises it 20 ms later.
 
-The library itself never installs handlers; only ``spherewarp.cli.main`` does.
+The library itself never installs handlers; only ``spherewarp.cli.main`` does. (The video
+pipeline holds whatever handlers are set back for the few lines that start and join its
+threads, then delivers what arrived: ``spherewarp.io.video._interrupts_held``.)
 """
 
 from __future__ import annotations

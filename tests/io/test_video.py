@@ -300,6 +300,51 @@ def test_the_pipeline_stops_at_the_first_error(where):
     assert len(got) < 1000 or where == "finish"
 
 
+
+@pytest.mark.parametrize("when", ["start", "join"])
+def test_an_interrupt_while_threads_start_or_join_leaves_none_running(monkeypatch, when):
+    """A Ctrl-C between the two threads' starts (or in the last join) once left the
+    decoding thread running while the caller closed its container: SIGSEGV in FFmpeg."""
+    import signal
+    import threading
+    import time
+
+    from spherewarp.io.video import pipeline
+
+    real_start, real_join = threading.Thread.start, threading.Thread.join
+    state = {"returned": False, "late": 0, "sent": False}
+
+    def start(self):
+        real_start(self)
+        if when == "start" and not state["sent"]:
+            state["sent"] = True
+            signal.raise_signal(signal.SIGINT)  # after the first thread, before the second
+
+    def join(self, timeout=None):
+        if when == "join" and not state["sent"] and threading.current_thread() is \
+                threading.main_thread():  # fmt: skip
+            state["sent"] = True
+            signal.raise_signal(signal.SIGINT)
+        return real_join(self, timeout)
+
+    def produce():
+        for k in range(200):
+            if state["returned"]:
+                state["late"] += 1  # decoding after the caller moved on
+            time.sleep(0.002)
+            yield k
+
+    monkeypatch.setattr(threading.Thread, "start", start)
+    monkeypatch.setattr(threading.Thread, "join", join)
+    before = threading.active_count()
+    with pytest.raises(KeyboardInterrupt):
+        pipeline(produce(), lambda x: x, lambda x: None)
+    state["returned"] = True
+    assert state["sent"] and threading.active_count() == before  # no thread outlives it
+    time.sleep(0.05)
+    assert state["late"] == 0
+
+
 def test_a_static_map_is_planned_once_for_all_segments(tmp_path, monkeypatch):
     import spherewarp.io.video as video
     from spherewarp.io.segments import frame_times, render_segmented

@@ -26,6 +26,7 @@ from __future__ import annotations
 import contextlib
 import os
 import queue
+import signal
 import sys
 import threading
 import warnings
@@ -369,6 +370,40 @@ def _get(q: queue.Queue, stop: threading.Event) -> Any:
 
 _END = object()
 
+#: the signals whose Python handlers :func:`_interrupts_held` holds back
+_HELD = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGALRM") if hasattr(signal, n))
+
+
+@contextlib.contextmanager
+def _interrupts_held() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM (and the command line's SIGALRM retry, see
+    :mod:`spherewarp._signals`) back for the block, then deliver them.
+
+    For the lines that start and join :func:`pipeline`'s threads: an interrupt raised
+    between two ``start()`` calls, or in a ``join()``, would leave the decoding thread
+    running while the caller closes the container it decodes from (FFmpeg then reads
+    freed memory: Ctrl-C ended a segmented render with SIGSEGV about once in 20). Only the
+    main thread runs signal handlers; elsewhere, and for a handler not set from Python,
+    this does nothing.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    held: list[int] = []
+    previous: dict[int, Any] = {}
+    for signum in _HELD:
+        handler = signal.getsignal(signum)
+        if callable(handler):  # a Python handler (not SIG_DFL, SIG_IGN or one set in C)
+            previous[signum] = handler
+            signal.signal(signum, lambda n, _frame: held.append(n))
+    try:
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+        for signum in held:
+            signal.raise_signal(signum)  # now, to the handler put back
+
 
 def pipeline(
     produce: Iterator[Any],
@@ -420,22 +455,27 @@ def pipeline(
             finish()
 
     threads = [threading.Thread(target=run(f), daemon=True) for f in (source, sink)]
-    for t in threads:
-        t.start()
     n = 0
+    finished = False
     try:
+        with _interrupts_held():  # both threads or neither (see _interrupts_held)
+            for t in threads:
+                t.start()
         while (item := _get(todo, stop)) is not _END:
             _put(done, work(item), stop)
             n += 1
         _put(done, _END, stop)
         threads[1].join()
+        finished = True
     except _Stop:
         pass
     finally:
-        if errors or threads[1].is_alive():
-            stop.set()
-        for t in threads:
-            t.join()
+        with _interrupts_held():  # no thread outlives the call, whatever arrives meanwhile
+            if errors or not finished:
+                stop.set()
+            for t in threads:
+                if t.is_alive():
+                    t.join()
     if errors:
         raise errors[0]
     if stop.is_set():
