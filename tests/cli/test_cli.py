@@ -470,3 +470,10 @@ def test_no_arguments_prints_the_help_not_an_error_line(workdir):
     assert code == 2
     assert "spherewarp: error" not in err
     assert "Commands:" in err and err.count("\n") > 10
+
+
+def test_a_file_system_error_names_the_file_then_says_why():
+    from spherewarp.cli import error_line
+
+    line, code = error_line(FileNotFoundError(2, "No such file or directory", "/x/out.mp4.parts"))
+    assert (line, code) == ("spherewarp: error: '/x/out.mp4.parts': No such file or directory", 2)

@@ -645,6 +645,25 @@ def test_failing_library_encoder_is_wrapped(tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
+
+@pytest.mark.parametrize(
+    "exc", [PermissionError(13, "Permission denied"), OSError(28, "No space left on device")]
+)
+def test_a_refused_file_says_why_not_the_temporary_name(tmp_path, monkeypatch, exc):
+    """A folder without write permission, a full or read-only disk: the line says what the
+    file system said, not the hidden temporary file's name nor 'encoding failed'."""
+
+    def refuse(tmp, *args):
+        exc.filename = str(tmp)
+        raise exc
+
+    monkeypatch.setitem(images_mod._WRITERS, "PNG", refuse)
+    with pytest.raises(ImageFormatError) as info:
+        write_image(tmp_path / "a.png", _smooth(3))
+    assert str(info.value) == f"cannot write '{tmp_path / 'a.png'}': {exc.strerror}"
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_temp_file_is_hidden_next_to_target_with_same_suffix(tmp_path, monkeypatch):
     seen = []
     real = images_mod._WRITERS["TIFF"]

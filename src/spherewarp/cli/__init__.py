@@ -137,7 +137,7 @@ def error_line(exc: BaseException, prog: str = "spherewarp") -> tuple[str, int] 
     if isinstance(exc, SpherewarpError):
         return f"{prog}: error: {_one_line(exc.cli_message)}", 2
     if isinstance(exc, OSError):
-        name = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
+        name = f" '{exc.filename}':" if getattr(exc, "filename", None) else ""
         return f"{prog}: error:{name} {_one_line(exc.strerror or exc)}", 2
     if isinstance(exc, MemoryError):
         return f"{prog}: error: out of memory (try a smaller --size)", 2

@@ -1444,6 +1444,13 @@ def write_image(
                 _WRITERS[fmt](tmp, arr, meta)
     except SpherewarpError:
         raise
+    except OSError as exc:
+        if exc.errno is None or not exc.strerror:  # an encoder's own OSError
+            raise ImageFormatError(
+                f"cannot write '{p}': {fmt} encoding failed ({type(exc).__name__}: {exc})"
+            ) from exc
+        # the file system refused the file next to p (permission, a read-only or full disk)
+        raise ImageFormatError(f"cannot write '{p}': {exc.strerror}") from exc
     except Exception as exc:
         raise ImageFormatError(
             f"cannot write '{p}': {fmt} encoding or writing failed ({type(exc).__name__}: {exc})"
