@@ -34,6 +34,13 @@ def psnr(a, b):
     return 10 * np.log10(255.0**2 / np.mean((a.astype(np.float64) - b) ** 2))
 
 
+def test_says_what_it_wrote_even_with_quiet(clip):
+    """As every command does: the bar and notes go with --quiet, the 'wrote' line stays."""
+    assert ok(None, "video", clip.name, "-o", "w.mp4", "rotate", "--yaw", "9") == "wrote w.mp4\n"
+    out = ok(None, "video", clip.name, "-o", "q.mp4", "--quiet", "rotate", "--yaw", "9")
+    assert out == "wrote q.mp4\n"
+
+
 def test_rotate_turns_every_frame(clip):
     ok(None, "video", clip.name, "-o", "out.mp4", "--quiet", "rotate", "--yaw", "90")
     src, out = frames(clip), frames("out.mp4")

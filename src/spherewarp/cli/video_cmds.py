@@ -313,6 +313,8 @@ def _run(
                 segment_seconds=o["segment"] or DEFAULT_SEGMENT_SECONDS,
                 on_client=getattr(frame_map, "on_client", None), **options,
             )  # fmt: skip
+            bar.close()
+            click.echo(f"wrote {o['output']}")  # as every command does (--quiet keeps it)
     finally:
         bar.close()
 
