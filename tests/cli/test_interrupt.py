@@ -147,3 +147,19 @@ def test_after_sigkill_the_next_run_removes_the_stale_temporary(workdir):
     assert proc.returncode == 0, err
     assert sorted(p.name for p in workdir.iterdir()) == ["in.png", "out.png"]
     (workdir / "out.png").unlink()
+
+
+def test_no_leaked_semaphore_warning_after_the_fast_exit(tmp_path):
+    """The program leaves with os._exit; a multiprocessing semaphore still referenced then
+    (a --jobs pool stopped by Ctrl-C, its manager thread not yet gone) made the resource
+    tracker print 'leaked semaphore objects' after the one line."""
+    code = (
+        "import multiprocessing as mp, sys\n"
+        "held = mp.get_context('spawn').Lock()  # registered with the resource tracker\n"
+        "sys.argv = ['spherewarp', '--version']\n"
+        "from spherewarp.cli import run\n"
+        "run()\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120, cwd=tmp_path)  # fmt: skip
+    assert done.returncode == 0 and "leaked" not in done.stderr, done.stderr
