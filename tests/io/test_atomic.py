@@ -69,3 +69,15 @@ def test_remove_live_cleans_up_what_an_interrupt_left(tmp_path):
     assert tmp in atomic._LIVE and tmp.exists()
     atomic.remove_live()
     assert not tmp.exists() and not atomic._LIVE
+
+
+def test_a_file_that_cannot_be_made_says_why_in_the_output_name(tmp_path):
+    """Not the hidden temporary file's name (a library caller of render_video got a bare
+    FileNotFoundError naming '.x.mp4.spherewarp-...tmp.mp4')."""
+    from spherewarp.errors import ImageFormatError
+
+    target = tmp_path / "no" / "such" / "x.mp4"
+    with pytest.raises(ImageFormatError) as info, atomic.atomic_file(target):
+        pass
+    assert str(info.value) == f"cannot write '{target}': directory '{target.parent}' does not exist"
+    assert isinstance(info.value, OSError) and not (tmp_path / "no").exists()

@@ -38,7 +38,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from .. import _signals
-from ..errors import OutputExistsError
+from ..errors import ImageFormatError, OutputExistsError
 
 __all__ = ["atomic_file", "write_bytes", "write_text", "temp_name", "remove_stale", "remove_live"]
 
@@ -138,12 +138,29 @@ def _make_temp(path: Path) -> Path:
         except FileExistsError:
             _LIVE.discard(tmp)
             continue
-        except OSError:
+        except OSError as exc:
             _LIVE.discard(tmp)
-            raise
+            raise _unwritable(path, exc) from exc
         os.close(fd)
         return tmp
     raise OSError(f"no free temporary file name in '{path.parent}'")
+
+
+def _unwritable(path: Path, exc: OSError) -> ImageFormatError:
+    """The error for a file that cannot be made next to ``path``: what the file system said
+    (a missing folder, no permission, a read-only or full disk), not the temporary name.
+
+    Examples
+    --------
+    >>> str(_unwritable(Path("no/such/dir/a.mp4"), FileNotFoundError(2, "No such file")))
+    "cannot write 'no/such/dir/a.mp4': directory 'no/such/dir' does not exist"
+    >>> str(_unwritable(Path("/a.png"), PermissionError(13, "Permission denied")))
+    "cannot write '/a.png': Permission denied"
+    """
+    parent = path.parent
+    if isinstance(exc, FileNotFoundError) and not parent.exists():
+        return ImageFormatError(f"cannot write '{path}': directory '{parent}' does not exist")
+    return ImageFormatError(f"cannot write '{path}': {exc.strerror or exc}")
 
 
 def _fsync(path: Path) -> None:
