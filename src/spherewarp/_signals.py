@@ -12,17 +12,23 @@ An interrupt that arrives while Python code runs as a C callback (numba's
 kernel cache, through llvmlite and ctypes) or in ``__del__`` is not raised
 there (Python would print it and drop it): SIGALRM raises it 20 ms later.
 
-The library itself never installs handlers; only ``spherewarp.cli.main`` does. (The video
-pipeline holds whatever handlers are set back for the few lines that start and join its
-threads, then delivers what arrived: ``spherewarp.io.video._interrupts_held``.)
+The library itself never installs handlers; only ``spherewarp.cli.main`` does. The library
+only uses :func:`held` round a few lines that must not be cut in two (starting and joining
+the video pipeline's threads, swapping fds 1 and 2 round a C decoder): it sets whatever
+handlers are there aside for those lines, then delivers what arrived.
 """
 
 from __future__ import annotations
 
+import contextlib
 import signal
+import threading
+from collections.abc import Iterator
 from typing import Any
 
-__all__ = ["Terminated", "install", "restore", "ignore", "check", "requested", "exit_status"]
+__all__ = [
+    "Terminated", "install", "restore", "ignore", "check", "requested", "exit_status", "held",
+]
 
 #: signal numbers received since :func:`install`
 _REQUESTS: list[int] = []
@@ -132,3 +138,44 @@ def ignore() -> None:
             signal.signal(signum, signal.SIG_IGN)
         except (ValueError, OSError):
             pass
+
+
+#: the signals whose Python handlers :func:`held` sets aside
+_HELD = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGALRM") if hasattr(signal, n))
+
+
+@contextlib.contextmanager
+def held() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM (and this module's SIGALRM retry) back for the block, then
+    deliver them to the handlers in place.
+
+    For lines an interrupt must not cut in two: starting and joining the video pipeline's
+    threads (an interrupt between two ``start()`` calls left a decoding thread running
+    while its container was closed: SIGSEGV in FFmpeg, about once in 20 Ctrl-Cs of a
+    segmented video), and putting fds 1 and 2 back after a C decoder (an interrupt
+    between the two left stderr in a discarded file: the "interrupted" line was lost).
+    Only the main thread runs signal handlers; elsewhere, and for a handler not set from
+    Python, this does nothing.
+
+    Examples
+    --------
+    >>> with held():
+    ...     pass
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    got: list[int] = []
+    previous: dict[int, Any] = {}
+    for signum in _HELD:
+        handler = signal.getsignal(signum)
+        if callable(handler):  # a Python handler (not SIG_DFL, SIG_IGN or one set in C)
+            previous[signum] = handler
+            signal.signal(signum, lambda n, _frame: got.append(n))
+    try:
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+        for signum in got:
+            signal.raise_signal(signum)  # now, to the handler put back

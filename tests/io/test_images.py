@@ -732,3 +732,38 @@ def test_files_from_other_writers(tmp_path):
     grey16 = np.arange(24, dtype=np.uint16).reshape(4, 6) * 2000
     Image.fromarray(grey16).save(tmp_path / "g16.png")  # Pillow's I;16 PNG
     np.testing.assert_array_equal(read_image(tmp_path / "g16.png").pixels[:, :, 0], grey16)
+
+
+def test_an_interrupt_while_fds_are_put_back_still_puts_them_back(monkeypatch):
+    """_quiet_fds sends fds 1 and 2 to a discarded file round a C decoder; a Ctrl-C while it
+    put them back left stderr there, and the command's 'interrupted' line was lost (seen in
+    a CI dry run: exit 130, empty stderr)."""
+    import signal
+    import sys
+
+    class Interrupting:
+        def write(self, text):
+            return len(text)
+
+        def flush(self):
+            signal.raise_signal(signal.SIGINT)  # arrives during the put-back
+
+    before = os.fstat(2)
+    with pytest.raises(KeyboardInterrupt), images_mod._quiet_fds():
+        monkeypatch.setattr(sys, "stdout", Interrupting())
+    after = os.fstat(2)
+    assert (after.st_dev, after.st_ino) == (before.st_dev, before.st_ino)
+
+
+def test_held_delivers_an_interrupt_after_the_block():
+    import signal
+
+    from spherewarp import _signals
+
+    done = []
+    handler = signal.getsignal(signal.SIGINT)
+    with pytest.raises(KeyboardInterrupt):
+        with _signals.held():
+            signal.raise_signal(signal.SIGINT)
+            done.append("the block ran to its end")
+    assert done and signal.getsignal(signal.SIGINT) is handler

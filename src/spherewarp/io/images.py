@@ -81,6 +81,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import _signals
 from ..errors import (
     ImageFormatError,
     InvalidTypeError,
@@ -489,16 +490,18 @@ def _quiet_fds() -> Any:
         return
     try:
         with tempfile.TemporaryFile() as sink:
-            os.dup2(sink.fileno(), 1)
-            os.dup2(sink.fileno(), 2)
             try:
+                with _signals.held():  # a Ctrl-C here must not skip the restore below
+                    os.dup2(sink.fileno(), 1)
+                    os.dup2(sink.fileno(), 2)
                 yield
             finally:
-                for stream in (sys.stdout, sys.stderr):
-                    with contextlib.suppress(Exception):
-                        stream.flush()
-                os.dup2(saved[0], 1)
-                os.dup2(saved[1], 2)
+                with _signals.held():  # nor here: stderr would stay discarded (a lost line)
+                    for stream in (sys.stdout, sys.stderr):
+                        with contextlib.suppress(Exception):
+                            stream.flush()
+                    os.dup2(saved[0], 1)
+                    os.dup2(saved[1], 2)
     finally:
         os.close(saved[0])
         os.close(saved[1])

@@ -26,7 +26,6 @@ from __future__ import annotations
 import contextlib
 import os
 import queue
-import signal
 import sys
 import threading
 import warnings
@@ -36,6 +35,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
+from .. import _signals
 from ..errors import ImageFormatError, InvalidValueError
 from ..maps.base import SphereMap
 from .atomic import atomic_file
@@ -370,41 +370,6 @@ def _get(q: queue.Queue, stop: threading.Event) -> Any:
 
 _END = object()
 
-#: the signals whose Python handlers :func:`_interrupts_held` holds back
-_HELD = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGALRM") if hasattr(signal, n))
-
-
-@contextlib.contextmanager
-def _interrupts_held() -> Iterator[None]:
-    """Hold SIGINT and SIGTERM (and the command line's SIGALRM retry, see
-    :mod:`spherewarp._signals`) back for the block, then deliver them.
-
-    For the lines that start and join :func:`pipeline`'s threads: an interrupt raised
-    between two ``start()`` calls, or in a ``join()``, would leave the decoding thread
-    running while the caller closes the container it decodes from (FFmpeg then reads
-    freed memory: Ctrl-C ended a segmented render with SIGSEGV about once in 20). Only the
-    main thread runs signal handlers; elsewhere, and for a handler not set from Python,
-    this does nothing.
-    """
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    held: list[int] = []
-    previous: dict[int, Any] = {}
-    for signum in _HELD:
-        handler = signal.getsignal(signum)
-        if callable(handler):  # a Python handler (not SIG_DFL, SIG_IGN or one set in C)
-            previous[signum] = handler
-            signal.signal(signum, lambda n, _frame: held.append(n))
-    try:
-        yield
-    finally:
-        for signum, handler in previous.items():
-            signal.signal(signum, handler)
-        for signum in held:
-            signal.raise_signal(signum)  # now, to the handler put back
-
-
 def pipeline(
     produce: Iterator[Any],
     work: Callable[[Any], Any],
@@ -458,7 +423,7 @@ def pipeline(
     n = 0
     finished = False
     try:
-        with _interrupts_held():  # both threads or neither (see _interrupts_held)
+        with _signals.held():  # both threads or neither (see _signals.held)
             for t in threads:
                 t.start()
         while (item := _get(todo, stop)) is not _END:
@@ -470,7 +435,7 @@ def pipeline(
     except _Stop:
         pass
     finally:
-        with _interrupts_held():  # no thread outlives the call, whatever arrives meanwhile
+        with _signals.held():  # no thread outlives the call, whatever arrives meanwhile
             if errors or not finished:
                 stop.set()
             for t in threads:
