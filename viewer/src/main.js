@@ -1100,9 +1100,14 @@ window.spherewarp = {
     new Promise((res) => {
       const v = S.video;
       v.pause();
-      v.addEventListener("seeked", () => window.spherewarp.settle().then(() => res(v.currentTime)), {
-        once: true,
-      });
+      // "seeked" can come before the frame is decodable (readyState < 2: videoFrame then
+      // uploads nothing, and the tick uploads it a frame or more later): resolve once the
+      // frame of the new time is the texture and drawn
+      const shown = () => {
+        if (v.seeking || S.videoTime !== v.currentTime) return requestAnimationFrame(shown);
+        window.spherewarp.settle().then(() => res(v.currentTime));
+      };
+      v.addEventListener("seeked", () => requestAnimationFrame(shown), { once: true });
       v.currentTime = t;
     }),
   settle: () =>
