@@ -370,6 +370,7 @@ def _get(q: queue.Queue, stop: threading.Event) -> Any:
 
 _END = object()
 
+
 def pipeline(
     produce: Iterator[Any],
     work: Callable[[Any], Any],
