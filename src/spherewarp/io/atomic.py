@@ -140,21 +140,22 @@ def _make_temp(path: Path) -> Path:
             continue
         except OSError as exc:
             _LIVE.discard(tmp)
-            raise _unwritable(path, exc) from exc
+            raise unwritable_error(path, exc) from exc
         os.close(fd)
         return tmp
     raise OSError(f"no free temporary file name in '{path.parent}'")
 
 
-def _unwritable(path: Path, exc: OSError) -> ImageFormatError:
-    """The error for a file that cannot be made next to ``path``: what the file system said
-    (a missing folder, no permission, a read-only or full disk), not the temporary name.
+def unwritable_error(path: Path, exc: OSError) -> ImageFormatError:
+    """The error for a file that cannot be made or written next to ``path``: what the file
+    system said (a missing folder, no permission, a read-only or full disk), not the
+    temporary file's name.
 
     Examples
     --------
-    >>> str(_unwritable(Path("no/such/dir/a.mp4"), FileNotFoundError(2, "No such file")))
+    >>> str(unwritable_error(Path("no/such/dir/a.mp4"), FileNotFoundError(2, "No such file")))
     "cannot write 'no/such/dir/a.mp4': directory 'no/such/dir' does not exist"
-    >>> str(_unwritable(Path("/a.png"), PermissionError(13, "Permission denied")))
+    >>> str(unwritable_error(Path("/a.png"), PermissionError(13, "Permission denied")))
     "cannot write '/a.png': Permission denied"
     """
     parent = path.parent

@@ -88,7 +88,7 @@ from ..errors import (
     InvalidValueError,
     SpherewarpError,
 )
-from .atomic import atomic_file, exists_error
+from .atomic import atomic_file, exists_error, unwritable_error
 from .xmp import GPano, gpano_xmp, parse_gpano
 
 __all__ = [
@@ -1447,14 +1447,9 @@ def write_image(
                 _WRITERS[fmt](tmp, arr, meta)
     except SpherewarpError:
         raise
-    except OSError as exc:
-        if exc.errno is None or not exc.strerror:  # an encoder's own OSError
-            raise ImageFormatError(
-                f"cannot write '{p}': {fmt} encoding failed ({type(exc).__name__}: {exc})"
-            ) from exc
-        # the file system refused the file next to p (permission, a read-only or full disk)
-        raise ImageFormatError(f"cannot write '{p}': {exc.strerror}") from exc
     except Exception as exc:
+        if isinstance(exc, OSError) and exc.errno is not None and exc.strerror:
+            raise unwritable_error(p, exc) from exc  # the file system's (a full disk...)
         raise ImageFormatError(
             f"cannot write '{p}': {fmt} encoding or writing failed ({type(exc).__name__}: {exc})"
         ) from exc
