@@ -645,7 +645,6 @@ def test_failing_library_encoder_is_wrapped(tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
-
 @pytest.mark.parametrize(
     "exc", [PermissionError(13, "Permission denied"), OSError(28, "No space left on device")]
 )
@@ -753,17 +752,3 @@ def test_an_interrupt_while_fds_are_put_back_still_puts_them_back(monkeypatch):
         monkeypatch.setattr(sys, "stdout", Interrupting())
     after = os.fstat(2)
     assert (after.st_dev, after.st_ino) == (before.st_dev, before.st_ino)
-
-
-def test_held_delivers_an_interrupt_after_the_block():
-    import signal
-
-    from spherewarp import _signals
-
-    done = []
-    handler = signal.getsignal(signal.SIGINT)
-    with pytest.raises(KeyboardInterrupt):
-        with _signals.held():
-            signal.raise_signal(signal.SIGINT)
-            done.append("the block ran to its end")
-    assert done and signal.getsignal(signal.SIGINT) is handler

@@ -300,7 +300,6 @@ def test_the_pipeline_stops_at_the_first_error(where):
     assert len(got) < 1000 or where == "finish"
 
 
-
 @pytest.mark.parametrize("when", ["start", "join"])
 def test_an_interrupt_while_threads_start_or_join_leaves_none_running(monkeypatch, when):
     """A Ctrl-C between the two threads' starts (or in the last join) once left the
