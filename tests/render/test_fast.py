@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import signal
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -304,6 +306,31 @@ def test_threads_give_identical_results():
         th.join()
     for r in results:
         np.testing.assert_array_equal(r, ref)
+
+
+def test_a_second_interrupt_while_the_kernels_stop_waits_for_them():
+    """Ctrl-C, then Ctrl-C again while the kernels are told to stop: no kernel outlives
+    the call (the second interrupt is held back until they have stopped)."""
+    stop = threading.Event()
+    running = []
+
+    def kernel(wk, nw):
+        running.append(wk)
+        while not stop.wait(0.01):
+            pass
+        time.sleep(0.2)  # stopping takes a moment
+        running.remove(wk)
+
+    def poll():
+        raise KeyboardInterrupt  # the first Ctrl-C
+
+    def cancel():
+        stop.set()
+        signal.raise_signal(signal.SIGINT)  # the second, as the kernels stop
+
+    with pytest.raises(KeyboardInterrupt):
+        fast._run(kernel, (), 2, 2, poll=poll, cancel=cancel)
+    assert running == []
 
 
 @needs_jit

@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import _signals
 from ..maps.base import Composite, SphereMap
 from . import antialias as _aa
 from . import stages as _st
@@ -250,7 +251,8 @@ def _run(
     ``cancel()`` then asks the kernels to stop early (where they can), and the
     call waits for them before it raises, so no kernel outlives it. With
     ``poll``, the calling thread calls ``poll()`` every :data:`PROGRESS_INTERVAL`
-    seconds until the shares are done (and once more at the end).
+    seconds until the shares are done (and once more at the end). A second Ctrl-C while
+    the kernels stop is held back until they have (:func:`spherewarp._signals.held`).
     """
     from concurrent.futures import FIRST_EXCEPTION, wait
 
@@ -264,9 +266,10 @@ def _run(
             if poll is not None:
                 poll()
     except BaseException:  # poll raised, or Ctrl-C: stop the kernels, then let it through
-        if cancel is not None:
-            cancel()
-        wait(futures)
+        with _signals.held():  # a second Ctrl-C waits too: no kernel outlives the call
+            if cancel is not None:
+                cancel()
+            wait(futures)
         raise
     for f in futures:
         f.result()
