@@ -270,6 +270,29 @@ def test_render_refuses_to_write_over_the_recipe(tmp_path, pano):
     assert "is the recipe" in err
 
 
+
+def test_render_and_animate_never_write_over_the_recipes_mask(tmp_path):
+    """The mask a recipe names is an input: no output of render or animate may be it."""
+    import shutil
+
+    from spherewarp.demo import sample_path
+
+    mask = tmp_path / "m_0000.png"
+    shutil.copy(sample_path("interior-mask.png"), mask)
+    before = mask.read_bytes()
+    step = {"schottky": {"mask": mask.name, "targets": [{"colour": "red", "zoom": 40}]}}
+    r = tmp_path / "sk.json"
+    r.write_text(json.dumps({"spherewarp": 1, "steps": [step]}))
+    s = sample_path()
+    err = fails(None, "render", r, s, "--size", "64x32", "-o", mask, "--overwrite")
+    assert "is the recipe's steps[0].schottky.mask" in err
+    err = fails(None, "animate", r, s, "--fps", "2", "--duration", "1", "--size", "64x32",
+                "-o", tmp_path / "m.png", "--overwrite")  # fmt: skip
+    assert "would write" in err and "steps[0].schottky.mask" in err
+    assert mask.read_bytes() == before and sorted(p.name for p in tmp_path.iterdir()) == [
+        "m_0000.png", "sk.json"
+    ]
+
 def test_droste_frames_recipe_animates_to_the_same_frames(tmp_path, pano):
     a, _ = pano
     r = tmp_path / "loop.json"

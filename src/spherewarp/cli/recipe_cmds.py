@@ -392,21 +392,37 @@ def render(
         )
     job().reads(recipe, "recipe")
     r = Recipe.load(recipe)
+    _reads_files(r)
     frame = r.at(time)
     render = _with_recipe_options(click.get_current_context(), render, frame)
     groups = _groups(r, recipe, inputs)
     if groups is None:
-        kwargs = {"render": render, "recipe": recipe, "frame": frame, "time": time, "dask": dask}
+        kwargs = {"render": render, "recipe": recipe, "r": r, "frame": frame, "time": time,
+                  "dask": dask}  # fmt: skip
         run_inputs(_render_one, inputs, kwargs)
         return
     if dask is not None:
         raise click.UsageError("--dask renders recipes of one input each, not this one's group")
     new_job(Job(reads=((recipe, "recipe"),)))
-    _render_one(groups[0], render, recipe, frame, time, None)
+    _render_one(groups[0], render, recipe, r, frame, time, None)
+
+
+def _reads_files(r: Any) -> None:
+    """Register the files the recipe's steps read (a ``mask``) as inputs of this job."""
+    from ._files import job
+
+    for name, path in r.files:
+        job().reads(path, f"recipe's {name}")
 
 
 def _render_one(
-    input: Any, render: RenderOptions, recipe: Path, frame: Any, time: float, dask: str | None
+    input: Any,
+    render: RenderOptions,
+    recipe: Path,
+    r: Any,
+    frame: Any,
+    time: float,
+    dask: str | None,
 ) -> None:
     from ._common import output_path, save_output
     from ._files import job
@@ -415,6 +431,7 @@ def _render_one(
 
     group = tuple(input) if isinstance(input, tuple) else (input,)
     job().reads(recipe, "recipe")
+    _reads_files(r)
     register_paths([(p, f"input {k + 1}" if len(group) > 1 else "input")
                     for k, p in enumerate(group)])  # fmt: skip
     # refuse a bad output early (a URL's file name names it, as a local file's does)
@@ -546,6 +563,7 @@ def animate(
         render = replace(render, output=given)
     job().reads(recipe, "recipe")
     r = Recipe.load(recipe)
+    _reads_files(r)
     groups = _groups(r, recipe, inputs)
     kwargs = {"render": render, "recipe": recipe, "r": r, "fps": fps, "duration": duration}
     kwargs["encoding"] = encoding
@@ -581,6 +599,7 @@ def _animate_one(
     group = tuple(input) if isinstance(input, tuple) else (input,)
     input = Path(group[0])  # a URL's name names the frames
     job().reads(recipe, "recipe")
+    _reads_files(r)
     inputs = [(p, f"input {k + 1}" if len(group) > 1 else "input") for k, p in enumerate(group)]
     if duration is None and r.duration is None:
         raise click.UsageError(f"{recipe} has no duration; give --duration S")

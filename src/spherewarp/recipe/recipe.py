@@ -309,6 +309,28 @@ class Recipe:
         ``images``); 1 for most."""
         return self._n_inputs
 
+    @property
+    def files(self) -> tuple[tuple[str, Path], ...]:
+        """The files the recipe's steps read (a Droste or Schottky ``mask``), as
+        (field, path) pairs: ``("steps[0].schottky.mask", Path(...))``.
+
+        A command that renders the recipe registers them as inputs, so that no output
+        of it overwrites one.
+
+        Examples
+        --------
+        >>> Recipe.loads('{"spherewarp": 1, "steps": [{"zoom": {"factor": 2}}]}').files
+        ()
+        """
+        from .params import File
+
+        found = []
+        for s in self._steps:
+            for name, spec in EFFECTS[s.effect].params.items():
+                if isinstance(spec, File) and s.parsed.get(name) is not None:
+                    found.append((f"{s.path}.{s.effect}.{name}", Path(s.parsed[name])))
+        return tuple(found)
+
     def at(self, t: float = 0.0) -> Frame:
         """The map and the render options at time ``t``."""
         renderer, flat = None, False
