@@ -92,6 +92,17 @@ def test_existing_recipe_is_refused_before_any_work(tmp_path, pano):
     assert json.loads(r.read_text())["steps"] == [{"rotate": {"yaw": 3.0}}]
 
 
+def test_a_recipe_in_a_missing_folder_is_refused_before_any_work(tmp_path, pano):
+    a, _ = pano
+    r = tmp_path / "no" / "r.json"
+    err = fails(None, "rotate", a, "--yaw", "3", "--save-recipe", r, "-o", tmp_path / "x.png")
+    assert f"directory '{tmp_path / 'no'}' does not exist" in err
+    (tmp_path / "no").write_text("a file")
+    err = fails(None, "rotate", a, "--yaw", "3", "--save-recipe", r, "-o", tmp_path / "x.png")
+    assert err.endswith("Not a directory\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.png", "b.png", "no"]
+
+
 def test_save_recipe_may_not_be_the_input(tmp_path, pano):
     a, _ = pano
     err = fails(None, "rotate", a, "--yaw", "3", "--save-recipe", a, "--overwrite")
