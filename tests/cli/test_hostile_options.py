@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import pytest
 from _cli import fails, ok
 
@@ -17,6 +19,7 @@ from spherewarp.demo import sample_path
         (["rotate", "--yaw", "3", "--size", "65536x32768"], "--size"),
         (["rotate", "--yaw", "3", "--size", "32768x16384"], "--max-pixels"),
         (["rotate", "--yaw", "3", "--max-pixels", "1000"], "--max-pixels"),
+        (["torus", "--cells", "1x16", "--size", "20000"], "--max-pixels"),  # 20000 x 320000
         (["lattes", "--alpha", "8"], "--exact"),
         (["droste", "--center", "0,0", "--inner-radius", "1e-300"], "--scale"),
     ],
@@ -32,3 +35,13 @@ def test_lattes_alpha_8_renders_with_exact(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     ok(None, "lattes", sample_path(), "--alpha", "8", "--exact", "--size", "128x64", "-o", "l.png")
     assert (tmp_path / "l.png").exists()
+
+
+def test_a_recipes_size_obeys_the_pixel_limit(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    step = {"zoom": {"at": [0, 0], "factor": 2}}
+    recipe = {"spherewarp": 1, "steps": [step], "view": {"size": [32768, 16384]}}
+    (tmp_path / "r.json").write_text(json.dumps(recipe))
+    err = fails(None, "render", "r.json", sample_path(), "-o", "out.png")
+    assert "the recipe's view.size" in err and "--max-pixels" in err
+    ok(None, "render", "r.json", sample_path(), "-o", "out.png", "--size", "64x32")  # overridden

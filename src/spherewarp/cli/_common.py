@@ -412,11 +412,16 @@ max_pixels_option = click.option(
 
 
 def check_size_limit(
-    size: tuple[int, int] | None, max_pixels: int | None, *, option: bool = True
+    size: tuple[int, int] | None,
+    max_pixels: int | None,
+    *,
+    option: bool = True,
+    hint: str = "--size",
 ) -> None:
     """An output larger than the pixel limit could not be read back: refuse it up front.
 
-    ``option``: the command has ``--max-pixels`` (else only the environment sets the limit).
+    ``option``: the command has ``--max-pixels`` (else only the environment sets the limit);
+    ``hint``: where the size came from (``--size``, or a recipe's ``view.size``).
     """
     from ..io.images import MAX_PIXELS_ENV, pixel_limit
 
@@ -426,7 +431,7 @@ def check_size_limit(
             f"{size[0]}x{size[1]} = {size[0] * size[1]} pixels is more than the pixel limit "
             f"{limit}; choose a smaller --size or raise the limit "
             f"({'--max-pixels or ' if option else ''}{MAX_PIXELS_ENV})",
-            param_hint="--size",
+            param_hint=hint,
         )
 
 

@@ -16,7 +16,7 @@ from typing import Any
 
 import click
 
-from ._common import RealType, RenderOptions, example, render_options
+from ._common import RealType, RenderOptions, check_size_limit, example, render_options
 from ._video_out import (
     PathOrURL,
     encoding_options,
@@ -256,6 +256,7 @@ def _with_recipe_options(ctx: click.Context, render: RenderOptions, frame: Any) 
     if not _chosen(ctx, "size") and "output_shape" in kwargs:
         h, w = kwargs["output_shape"]
         changes["size"] = (w, h)
+        check_size_limit((w, h), render.max_pixels, hint="the recipe's view.size")
     if not _chosen(ctx, "background") and frame.background is not None:
         changes["background"] = frame.background
     if not any(_chosen(ctx, n) for n in ("projection", "view_at", "view_roll", "fov")):
@@ -300,7 +301,8 @@ def _render_frame(srcs: Any, frame: Any, render: RenderOptions, command: str) ->
     pixels = [s.pixels for s in srcs]
     if frame.flat:
         render.refuse_view(command)
-    out = frame.render_pixels(pixels, render.warp_kwargs(pixels[0]))
+    kwargs = {**render.warp_kwargs(pixels[0]), "max_pixels": render.max_pixels}
+    out = frame.render_pixels(pixels, kwargs)
     gpano: Any = True  # after a branched map no pose holds, as with those commands
     if frame.flat:
         gpano = False

@@ -160,6 +160,19 @@ def _check_width(width: object) -> int:
     return int(width)
 
 
+def _check_pixels(w: int, h: int, max_pixels: int | None) -> None:
+    from ..io.images import MAX_PIXELS_ENV, pixel_limit
+
+    limit = pixel_limit(max_pixels)
+    if w * h > limit:
+        what = f"a torus picture of {w}x{h} = {w * h} pixels is more than the pixel limit {limit}"
+        raise InvalidValueError(
+            f"{what}; choose a smaller width or raise the limit (max_pixels= or {MAX_PIXELS_ENV})",
+            cli=f"{what}; choose a smaller --size W or raise the limit (--max-pixels or "
+            f"{MAX_PIXELS_ENV})",
+        )
+
+
 def render_torus(
     image: ArrayLike,
     lattice: str = "square",
@@ -170,6 +183,7 @@ def render_torus(
     supersample: int = 1,
     force: bool = False,
     progress: Any = None,
+    max_pixels: int | None = None,
 ) -> NDArray:
     """The toroidal image of a panorama: its pull-back by ℘̃ over a window of cells.
 
@@ -191,6 +205,10 @@ def render_torus(
     progress : callable, optional
         ``progress(done, total)`` per band of output rows, as for
         :func:`~spherewarp.render.warp`.
+    max_pixels : int, optional
+        The most pixels the picture may have (default: the pixel limit of
+        :func:`~spherewarp.io.pixel_limit`, which reads it back); its height
+        follows from the cells, so a narrow width can still mean a large picture.
 
     Returns
     -------
@@ -201,11 +219,16 @@ def render_torus(
     >>> img = np.zeros((16, 32, 1), np.float32)
     >>> render_torus(img, cells="2x2", width=40).shape
     (40, 40, 1)
+    >>> render_torus(img, cells="1x4", width=40, max_pixels=1000)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    spherewarp.errors.InvalidValueError: a torus picture of 40x160 = 6400 pixels is more than ...
     """
     img, lat, cxy, ss = _check_common(image, lattice, cells, supersample, force)
     wx, wy = _window(lat, cxy)
     w = _check_width(width if width is not None else img.shape[1])
     h = max(1, round(w * wy / wx))
+    _check_pixels(w, h, max_pixels)
 
     def plane(x: NDArray, y: NDArray) -> NDArray:
         return x * (wx / w) + 1j * (wy - y * (wy / h))

@@ -476,6 +476,7 @@ def _render_torus(images: list[Any], v: dict[str, Any], m: Any, kw: dict[str, An
         supersample=kw.get("supersample", 1),
         force=bool(kw.get("force", False)),
         progress=kw.get("progress"),
+        max_pixels=kw.get("max_pixels"),
     )
 
 

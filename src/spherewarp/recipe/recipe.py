@@ -106,7 +106,12 @@ class Frame:
         return m
 
     def render_pixels(self, images: Any, warp_kwargs: dict[str, Any]) -> Any:
-        """The pixels of this frame from ``images`` (one, or a list of :attr:`n_inputs`)."""
+        """The pixels of this frame from ``images`` (one, or a list of :attr:`n_inputs`).
+
+        ``warp_kwargs`` are :func:`~spherewarp.render.warp`'s, and may also hold
+        ``max_pixels``: the most pixels a picture of its own (a torus, whose height
+        follows from its cells) may have.
+        """
         from ..render import warp
 
         imgs = list(images) if isinstance(images, (list, tuple)) else [images]
@@ -114,7 +119,8 @@ class Frame:
             raise RecipeError("inputs", f"expected {self.n_inputs} input image(s), got {len(imgs)}")
         if self.renderer is not None:
             return self.renderer(imgs, warp_kwargs)
-        return warp(imgs[0], self.sized_map(warp_kwargs, imgs[0].shape), **warp_kwargs)
+        kwargs = {k: v for k, v in warp_kwargs.items() if k != "max_pixels"}
+        return warp(imgs[0], self.sized_map(kwargs, imgs[0].shape), **kwargs)
 
 
 def output_width(kwargs: dict[str, Any], in_shape: tuple[int, ...]) -> int:
@@ -319,8 +325,11 @@ class Recipe:
 
         Examples
         --------
-        >>> Recipe.loads('{"spherewarp": 1, "steps": [{"zoom": {"factor": 2}}]}').files
-        ()
+        >>> from spherewarp.demo import sample_path
+        >>> step = {"schottky": {"mask": str(sample_path("interior-mask.png")),
+        ...                      "targets": [{"colour": "red", "zoom": 40}]}}
+        >>> [(k, p.name) for k, p in Recipe.from_dict({"spherewarp": 1, "steps": [step]}).files]
+        [('steps[0].schottky.mask', 'interior-mask.png')]
         """
         from .params import File
 
