@@ -182,6 +182,24 @@ def test_sheets_cycle_inwards() -> None:
     assert Droste(CENTER, RHO, 5.0).pull(zw).sheet is None
 
 
+
+@pytest.mark.parametrize("make", VARIANTS)
+def test_a_huge_phase_is_reduced_by_its_period(make) -> None:
+    """Phase 1e12 (or 1e308) is phase 0, not 1e12 log(lambda) away in the log plane;
+    with n images the period is n whole zooms."""
+    d = make()
+    zw = random_points(300)
+    a = d.pull_cp1(zw)
+    for t in (1e12, 1e16, 1e308):
+        assert np.array_equal(d.with_phase(t).pull_cp1(zw), a), t
+    b = d.with_phase(0.25).pull_cp1(zw)
+    assert chordal(d.with_phase(1e6 + 0.25).pull_cp1(zw), b).max() < 1e-6
+    if not isinstance(d, TwistedDroste):
+        two = make(n_images=2)
+        sheets = [two.with_phase(t).pull(zw).sheet for t in (1e12 + 1, 1)]
+        assert np.array_equal(*sheets)
+        assert d.with_phase(1e12).phase == 1e12  # the phase given is kept (recipes, JSON)
+
 # -- plain data and errors ---------------------------------------------------------------------
 
 

@@ -109,6 +109,12 @@ def test_phase_one_is_phase_zero():
     assert (np.abs(a - b).max(axis=1) < 1e-8).mean() > 0.99
 
 
+
+def test_a_huge_phase_is_phase_zero():
+    s = Schottky.from_disk_pairs(PAIRS)
+    xyz = _points()
+    assert np.array_equal(s.with_phase(1e17).apply_xyz(xyz), s.with_phase(0).apply_xyz(xyz))
+
 def test_local_scale_matches_finite_differences():
     s = Schottky.from_disk_pairs(PAIRS)
     xyz = _points(300)

@@ -191,8 +191,8 @@ class Droste(SphereMap):
         The second fixed point (default: the antipode of ``center``).
     phase : float
         Zoom phase ``t``: the image is pushed by ``symmetry() ** t``
-        (``t = 1`` is the same image as ``t = 0``; growing ``t`` flies into
-        the frame).
+        (``t = 1`` is the same image as ``t = 0``, and with ``n_images``
+        images ``t = n_images`` is; growing ``t`` flies into the frame).
     n_images : int
         Copy at depth ``d`` (``d = -k``; 1 is the first copy inside the frame)
         takes its content from input image ``d mod n_images``
@@ -261,6 +261,9 @@ class Droste(SphereMap):
         if n < 1:
             raise InvalidValueError(f"n_images: expected an integer >= 1, got {n_images!r}")
         self._n_images = n
+        #: the phase the map uses: the same image, reduced by its period (``n_images`` whole
+        #: zooms), so that a phase of 1e12 is not 1e12 log(lambda) away in the log plane
+        self._shift = math.fmod(self._phase, float(self._n_images))
         self._setup_twist()
 
     def _setup_twist(self) -> None:
@@ -396,12 +399,12 @@ class Droste(SphereMap):
     def source_log(self, log_zeta: ArrayLike) -> NDArray[np.complex128]:
         """The twist and phase: ``beta (L - L0) + L0 - phase Q`` (before reduction)."""
         L = np.asarray(log_zeta, dtype=np.complex128)
-        return self._beta * (L - self._pivot) + (self._pivot - self._phase * self._q)
+        return self._beta * (L - self._pivot) + (self._pivot - self._shift * self._q)
 
     def output_log(self, log_zeta: ArrayLike) -> NDArray[np.complex128]:
         """The inverse of :meth:`source_log`: input log plane -> output log plane."""
         L = np.asarray(log_zeta, dtype=np.complex128)
-        return (L - self._pivot + self._phase * self._q) / self._beta + self._pivot
+        return (L - self._pivot + self._shift * self._q) / self._beta + self._pivot
 
     def reduce_log(self, log_zeta: ArrayLike) -> tuple[NDArray[np.complex128], NDArray[np.int64]]:
         """The translate of ``L`` in the strip, and its tile index ``k``.
@@ -448,7 +451,7 @@ class Droste(SphereMap):
             return None
         from ..render.stages import DROSTE
 
-        c = self._pivot - self._phase * self._q
+        c = self._pivot - self._shift * self._q
         b = self._beta
         p = DROSTE.pack(
             m=self._rho.size, ell=self._ell, beta_re=b.real, beta_im=b.imag, pivot=self._pivot,

@@ -368,6 +368,10 @@ class Mobius(SphereMap):
         >>> z = Mobius.zoom((0, 0), 4)
         >>> (z ** 0.5) == Mobius.zoom((0, 0), 2)
         True
+        >>> z ** 1000  # doctest: +ELLIPSIS
+        Traceback (most recent call last):
+        ...
+        spherewarp.errors.InvalidValueError: the power 1000 of this map is out of range ...
         """
         t = float(t)
         if not math.isfinite(t):
@@ -381,7 +385,14 @@ class Mobius(SphereMap):
         s = cmath.acosh(tr / 2)
         if abs(s) < 1e-7:  # parabolic: M = I + N, M^t = I + t N
             return Mobius(np.eye(2) + t * n)
-        return Mobius(cmath.cosh(t * s) * np.eye(2) + (cmath.sinh(t * s) / cmath.sinh(s)) * n)
+        try:
+            c, sh = cmath.cosh(t * s), cmath.sinh(t * s)
+        except OverflowError:  # e**710 and beyond: every point is on a fixed point
+            raise InvalidValueError(
+                f"the power {t:g} of this map is out of range (it would squeeze the whole sphere "
+                "onto a fixed point); expected a smaller power"
+            ) from None
+        return Mobius(c * np.eye(2) + (sh / cmath.sinh(s)) * n)
 
     def to_rotation_matrix(self) -> NDArray[np.float64]:
         """The 3x3 rotation matrix of a rotation (acting on ``xyz`` column vectors).

@@ -497,7 +497,8 @@ class Schottky(SphereMap):
                 raise InvalidValueError(f"depth: expected 1..{MAX_DEPTH}, got {depth}")
             self._depth_given = int(depth)
             self._depth = int(depth)
-        t = self._phase = check_phase(phase)
+        self._phase = check_phase(phase)
+        t = math.fmod(self._phase, 1.0)  # phase 1 is phase 0: X0 maps the picture onto itself
         self._pre = gens[0][1].power(-t) if t else None
         self._regions: MaskRegions | None = None
 

@@ -271,13 +271,19 @@ def _build_droste(v: dict[str, Any]) -> Any:
     )
 
 
+def warp_only(kw: dict[str, Any]) -> dict[str, Any]:
+    """A renderer's keyword arguments less those that are not :func:`~spherewarp.render.warp`'s
+    (``max_pixels``, for a picture of its own)."""
+    return {k: v for k, v in kw.items() if k != "max_pixels"}
+
+
 def _render_droste_log(images: list[Any], v: dict[str, Any], m: Any, kw: dict[str, Any]) -> Any:
     """The log plane of a Droste step (``view``: 'log' or 'log-output'), or the image."""
     from ..effects import droste as dr
     from ..render import warp
 
     if v["view"] == "equirect":
-        return warp(images if len(images) > 1 else images[0], m, **kw)
+        return warp(images if len(images) > 1 else images[0], m, **warp_only(kw))
     shape = kw.get("output_shape")
     return dr.log_view(
         images,
@@ -413,7 +419,7 @@ def _splitscreen_cover(v: dict[str, Any]) -> dict[str, Any]:
 def _render_splitscreen(images: list[Any], v: dict[str, Any], m: Any, kw: dict[str, Any]) -> Any:
     from ..effects import splitscreen as ss
 
-    kw = dict(kw)
+    kw = warp_only(kw)
     force = bool(kw.pop("force", False))
     look = v["look_at"]
     view = None

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .effects import EFFECTS
+from .effects import EFFECTS, warp_only
 from .errors import RecipeError
 from .params import Choice, Integer, Real, describe, is_number, suggest
 from .tracks import has_track, resolve
@@ -119,7 +119,7 @@ class Frame:
             raise RecipeError("inputs", f"expected {self.n_inputs} input image(s), got {len(imgs)}")
         if self.renderer is not None:
             return self.renderer(imgs, warp_kwargs)
-        kwargs = {k: v for k, v in warp_kwargs.items() if k != "max_pixels"}
+        kwargs = warp_only(warp_kwargs)
         return warp(imgs[0], self.sized_map(kwargs, imgs[0].shape), **kwargs)
 
 
