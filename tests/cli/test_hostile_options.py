@@ -22,6 +22,13 @@ from spherewarp.demo import sample_path
         (["torus", "--cells", "1x16", "--size", "20000"], "--max-pixels"),  # 20000 x 320000
         (["lattes", "--alpha", "8"], "--exact"),
         (["droste", "--center", "0,0", "--inner-radius", "1e-300"], "--scale"),
+        (["droste", "--center", "0,0", "--inner-radius", "10", "--phase", "inf"], "'--phase'"),
+        (["schottky", "--generator", "0,0,20 -> 180,0,20", "--phase", "nan"], "'--phase'"),
+        (["schottky", "--generator", "0,0,1e-300 -> 180,0,1e-300"], "radius at least 0.001"),
+        (["power", "--n", "1e308"], "exponent of at most 1e+06"),
+        (["power", "--n", "0.5", "--cut", "nan"], "'--cut'"),
+        (["exp", "--lam", "1e308"], "lam of at most 1e+06"),
+        (["project", "--to", "cubemap", "--size", "5x3"], "--size WxH sets an output's size"),
     ],
 )
 def test_extreme_values_give_one_error_line(tmp_path, monkeypatch, args, needle):

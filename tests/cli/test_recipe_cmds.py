@@ -238,6 +238,27 @@ BAD_NAMED = {
         _recipe({"torus": {"cells": [0, 1]}}),
         "steps[0].torus.cells[0]: expected an integer from 1 to 64, got 0",
     ),
+    "an integer beyond a float": (
+        '{"spherewarp": 1, "steps": [{"rotate": {"yaw": 1' + "0" * 400 + "}}]}",
+        "expected numbers of at most 308 digits, got an integer of 401 digits",
+    ),
+    "an integer beyond Python's int parsing": (
+        '{"spherewarp": 1, "steps": [{"rotate": {"yaw": 1' + "0" * 5000 + "}}]}",
+        "expected numbers of at most 308 digits",
+    ),
+    "mobius amount out of range": (
+        _recipe({"mobius": {"matrix": [2, 0, 0, 1], "amount": 5000}}),
+        "steps[0].mobius: the power 5000 of this map is out of range",
+    ),
+    "power exponent out of range": (
+        _recipe({"power": {"n": 1e308}}),
+        "steps[0].power: expected an exponent of at most 1e+06 in size",
+    ),
+    "background not a colour": (
+        _recipe(options={"background": "notacolour"}),
+        "options.background: expected a colour name",
+    ),
+    "unknown tonemap": (_recipe(options={"tonemap": "filmic"}), "options.tonemap: expected"),
 }
 
 
@@ -557,3 +578,37 @@ def test_a_schottky_loop_recipe_loops(tmp_path, pano):
     ok(None, "render", r, a, "--time", "1", "-o", tmp_path / "one.png", "-q")
     one = read_image(tmp_path / "one.png").pixels.astype(int)
     assert (np.abs(one - frames[0]).max(axis=-1) <= 2).mean() > 0.98
+
+
+def test_a_fifo_or_a_device_is_no_recipe(tmp_path, pano):
+    import os
+
+    fifo = tmp_path / "f.json"
+    os.mkfifo(fifo)
+    for r in (fifo, "/dev/zero"):
+        err = fails(None, "render", r, pano[0], "-o", tmp_path / "out.png")  # no hang
+        assert "not a regular file" in err
+
+
+def test_print_with_save_recipe_is_refused(tmp_path, pano):
+    r = tmp_path / "r.json"
+    for flag in ("--print", "--print-map"):
+        for args in ([flag, "--save-recipe", r], ["--save-recipe", r, flag]):
+            code, _, err = run(None, "zoom", pano[0], "--at", "0,0", "--factor", "2", *args)
+            assert code == 2 and f"{flag} prints instead of rendering" in err
+    assert not r.exists()
+
+
+def test_tonemap_and_exposure_are_in_the_recipe(tmp_path):
+    hdr = tmp_path / "x.exr"
+    write_image(hdr, np.random.default_rng(0).uniform(0, 8, (32, 64, 3)).astype(np.float32))
+    r = tmp_path / "r.json"
+    opts = ["--tonemap", "reinhard", "--exposure", "1", "-q"]
+    ok(None, "exp", hdr, "--lam", "3", *opts, "-o", tmp_path / "a.png", "--save-recipe", r)
+    options = json.loads(r.read_text())["options"]
+    assert options["tonemap"] == "reinhard" and options["exposure"] == 1.0
+    ok(None, "render", r, hdr, "-o", tmp_path / "b.png", "-q")
+    a, b = (read_image(tmp_path / n).pixels for n in ("a.png", "b.png"))
+    assert a.dtype == np.uint16 and np.array_equal(a, b)
+    ok(None, "render", r, hdr, "-o", tmp_path / "c.png", "-q", "--tonemap", "clip")  # wins
+    assert not np.array_equal(read_image(tmp_path / "c.png").pixels, a)

@@ -160,7 +160,7 @@ def _points(value: Any) -> Any:
 )
 @click.option(
     "--cut",
-    type=float,
+    type=RealType("a longitude in degrees", "180", metavar="LON"),
     default=180.0,
     show_default=True,
     help="For a non-integer exponent: longitude of the meridian along which the root is cut "

@@ -177,7 +177,7 @@ def _check_suffix(path: Path) -> None:
 )
 @click.option(
     "--phase",
-    type=float,
+    type=RealType("a zoom phase", "0.25", metavar="T"),
     default=0.0,
     show_default=True,
     help="Zoom phase t: 0 and 1 give the same image; growing t flies into the frame.",

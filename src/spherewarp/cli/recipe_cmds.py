@@ -61,6 +61,24 @@ def capturing_recipe() -> Iterator[list[dict[str, Any]]]:
         _CAPTURED = saved
 
 
+def _print_or_save(ctx: click.Context, param: click.Parameter, value: Any) -> Any:
+    """Refuse ``--print`` (or ``--print-map``) with ``--save-recipe``: printing writes nothing.
+
+    Each of the three options calls this as it is parsed, so the one parsed last sees the
+    other in ``ctx.params``, whatever the order on the command line.
+    """
+    given = {n for n in ("print_recipe", "print_map", "save_recipe") if ctx.params.get(n)}
+    if value and param.name is not None:
+        given.add(param.name)
+    if "save_recipe" in given and given & {"print_recipe", "print_map"}:
+        flag = "--print" if "print_recipe" in given else "--print-map"
+        raise click.UsageError(
+            f"{flag} prints instead of rendering and writes no file; leave out --save-recipe, "
+            "or write the recipe without rendering with --save-recipe R.json --dry-run"
+        )
+    return value
+
+
 def recipe_options(func: Callable) -> Callable:
     """The ``--save-recipe R.json`` and ``--dry-run`` options of an effect command."""
     func = click.option(
@@ -73,6 +91,7 @@ def recipe_options(func: Callable) -> Callable:
         "--save-recipe",
         type=click.Path(dir_okay=False, path_type=Path),
         metavar="R.json",
+        callback=_print_or_save,
         help="Also write the recipe of this render as JSON; 'spherewarp render R.json IN' "
         "replays it on any panorama.",
     )(func)
@@ -103,12 +122,14 @@ def print_options(func: Callable) -> Callable:
         "--print-map",
         "print_map",
         is_flag=True,
+        callback=_print_or_save,
         help="Print the map as JSON (spherewarp.maps.map_from_json reads it) instead of rendering.",
     )(func)
     return click.option(
         "--print",
         "print_recipe",
         is_flag=True,
+        callback=_print_or_save,
         help="Print the recipe of this render as JSON ('spherewarp render' replays it) "
         "instead of rendering.",
     )(func)
@@ -149,6 +170,10 @@ def recipe_of(
     }
     if render.background is not None:
         options["background"] = render.background
+    if render.tonemap != "aces":  # how HDR is written (the default is left out)
+        options["tonemap"] = render.tonemap
+    if render.exposure:
+        options["exposure"] = render.exposure
     data: dict[str, Any] = {"spherewarp": 1}
     if isinstance(input, (list, tuple)):
         data["inputs"] = [i.name for i in input]
@@ -244,7 +269,8 @@ def _chosen(ctx: click.Context, name: str) -> bool:
 
 
 def _with_recipe_options(ctx: click.Context, render: RenderOptions, frame: Any) -> Any:
-    """``render`` with the recipe's interp/supersample/antialias/size/background, except
+    """``render`` with the recipe's interp/supersample/antialias/size/background/tonemap/
+    exposure, except
     those given on the command line; and the ``warp`` keyword arguments."""
     from dataclasses import replace
 
@@ -257,8 +283,9 @@ def _with_recipe_options(ctx: click.Context, render: RenderOptions, frame: Any) 
         h, w = kwargs["output_shape"]
         changes["size"] = (w, h)
         check_size_limit((w, h), render.max_pixels, hint="the recipe's view.size")
-    if not _chosen(ctx, "background") and frame.background is not None:
-        changes["background"] = frame.background
+    for name in ("background", "tonemap", "exposure"):
+        if not _chosen(ctx, name) and getattr(frame, name) is not None:
+            changes[name] = getattr(frame, name)
     if not any(_chosen(ctx, n) for n in ("projection", "view_at", "view_roll", "fov")):
         view = frame.view  # the recipe's output grid, unless the command line names one
         changes["projection"] = view.get("projection")
@@ -381,10 +408,11 @@ def render(
     """Render a recipe (R.json, as --save-recipe writes it) on INPUT.
 
     The recipe's options (--interp, --supersample, --antialias, --size,
-    --background) apply unless given here. A recipe made from several inputs (a
-    split screen, Droste's --inside images) takes them all, in order, as one render;
-    otherwise each INPUT is rendered in turn. With --dask the images are warped on
-    a Dask cluster's workers, all at once, and written here as without it.
+    --background, --tonemap, --exposure) apply unless given here. A recipe made
+    from several inputs (a split screen, Droste's --inside images) takes them all,
+    in order, as one render; otherwise each INPUT is rendered in turn. With --dask
+    the images are warped on a Dask cluster's workers, all at once, and written
+    here as without it.
     INPUT may be an fsspec URL (ftp://host/room.jpg), read as `spherewarp
     animate` reads its still (by each worker with --dask); the output is a local
     file, named from the URL's file name (room-render.jpg).

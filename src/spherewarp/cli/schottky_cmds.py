@@ -110,7 +110,7 @@ DEGREES = RealType("degrees", "30", metavar="DEG")
 )
 @click.option(
     "--phase",
-    type=float,
+    type=RealType("a zoom phase", "0.25", metavar="T"),
     default=0.0,
     show_default=True,
     help="Zoom phase t through the first generator's disks: 0 and 1 give the same image.",

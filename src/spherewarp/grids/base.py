@@ -453,7 +453,7 @@ class _Cube(Grid):
                 f"(e.g. {s * self.cols}x{s * self.rows})"
             )
             raise InvalidValueError(
-                f"expected {what}", cli=f"expected {what}; --size sets an output's"
+                f"expected {what}", cli=f"expected {what}; --size WxH sets an output's size"
             )
 
     @property

@@ -83,6 +83,10 @@ ESSENTIAL_RADIUS = 1e-9
 SCALE_CAP = 1e12
 
 _TWO_PI = 2.0 * math.pi
+#: the largest exponent |n| of :class:`Power` (a million copies round a point: far past any
+#: output's pixels, and z**n overflows not far beyond), and the largest ``lam`` of
+#: :class:`ExpMap` (lam / pi copies side by side)
+MAX_EXPONENT = 1e6
 _INT_TOL = 1e-12
 
 
@@ -281,6 +285,11 @@ class Power(_ChartedMap):
         t = _round_int(_check_real(exponent, "exponent"))
         if t == 0:
             raise InvalidValueError("expected a non-zero exponent, got 0 (a constant map)")
+        if abs(t) > MAX_EXPONENT:  # z**n overflows; and n copies round a point are noise
+            raise InvalidValueError(
+                f"expected an exponent of at most {MAX_EXPONENT:g} in size (that many copies "
+                f"of the image round each branch point), got {t:g}"
+            )
         if isinstance(branch, bool) or not isinstance(branch, numbers.Integral):
             raise InvalidTypeError(f"expected branch to be an integer, got {branch!r}")
         self._t = t
@@ -439,6 +448,8 @@ def _check_lam(lam: Any) -> float:
     v = _check_real(lam, "lam")
     if v <= 0:
         raise InvalidValueError(f"expected lam > 0, got {lam!r}")
+    if v > MAX_EXPONENT:  # about lam / pi copies between front and back: far past any output
+        raise InvalidValueError(f"expected lam of at most {MAX_EXPONENT:g}, got {v:g}")
     return v
 
 

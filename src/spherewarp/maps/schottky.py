@@ -152,6 +152,11 @@ def cap_image(m: Mobius, cap: Cap) -> tuple[NDArray[np.float64], float]:
     return nn, math.degrees(math.acos(max(-1.0, min(1.0, d))))
 
 
+#: the smallest disk radius (degrees) :func:`generator_between` takes: a thousandth of a
+#: degree is a fortieth of a pixel of an 8K panorama
+MIN_RADIUS = 1e-3
+
+
 def generator_between(source: Cap, target: Cap, twist: float = 0.0) -> Mobius:
     """The Möbius map taking the outside of ``source`` onto the inside of ``target``.
 
@@ -167,7 +172,7 @@ def generator_between(source: Cap, target: Cap, twist: float = 0.0) -> Mobius:
     Raises
     ------
     InvalidValueError
-        If the disks overlap or touch.
+        If the disks overlap or touch, or one is smaller than :data:`MIN_RADIUS`.
 
     Examples
     --------
@@ -183,6 +188,11 @@ def generator_between(source: Cap, target: Cap, twist: float = 0.0) -> Mobius:
     if gap <= 0:
         raise InvalidValueError(
             f"the disks {_fmt(source)} and {_fmt(target)} overlap by {-gap:.3g} degrees"
+        )
+    small = min(source.radius, target.radius)
+    if small < MIN_RADIUS:  # the map's matrix is then singular in double precision
+        raise InvalidValueError(
+            f"expected disks of radius at least {MIN_RADIUS:g} degrees, got {small:.3g}"
         )
     # Caps as unit spacelike vectors of Minkowski space (signature +---); the limit points
     # are the null vectors of the plane they span.

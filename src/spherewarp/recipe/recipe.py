@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -31,6 +32,8 @@ _INTERP = Choice(["bilinear", "bicubic", "nearest"], default="bilinear")
 _SUPERSAMPLE = Integer(ge=1, le=16)
 _DURATION = Real(gt=0, le=86400)
 _SIZE_PART = Integer(ge=1, le=1_000_000)
+_TONEMAP = Choice(["aces", "reinhard", "clip"], default="aces")  # spherewarp.io.tonemap's
+_EXPOSURE = Real(ge=-20, le=20)
 
 
 @dataclass(frozen=True)
@@ -97,6 +100,10 @@ class Frame:
     flat: bool = False
     #: how many input images the frame takes
     n_inputs: int = 1
+    #: how HDR pixels are written to an 8- or 16-bit file (``--tonemap``, ``--exposure``),
+    #: or None for the default
+    tonemap: str | None = None
+    exposure: float | None = None
 
     def sized_map(self, warp_kwargs: dict[str, Any], in_shape: tuple[int, ...]) -> Any:
         """The map, its depth sized for the output (a Schottky map's ``for_output``)."""
@@ -198,7 +205,7 @@ class Recipe:
         Raises :class:`RecipeError` naming the first bad field.
         """
         _check_depth(data)
-        return cls(json.loads(_json_text(data)), base)  # a copy: the caller's data may change
+        return cls(_loads(_json_text(data)), base)  # a copy: the caller's data may change
 
     @classmethod
     def loads(cls, text: str | bytes, base: str | os.PathLike[str] | None = None) -> Recipe:
@@ -215,7 +222,7 @@ class Recipe:
                     "", f"expected UTF-8 JSON text, got a byte that is not UTF-8 at {exc.start}"
                 ) from None
         try:
-            data = json.loads(text, parse_constant=_refuse_constant, object_pairs_hook=_no_dupes)
+            data = _loads(text)
         except RecursionError:
             raise RecipeError("", f"expected JSON nested at most {MAX_DEPTH} deep") from None
         except json.JSONDecodeError as exc:
@@ -232,7 +239,11 @@ class Recipe:
 
         p = Path(path)
         try:
-            size = p.stat().st_size
+            st = p.stat()
+            if not stat.S_ISREG(st.st_mode) and not stat.S_ISDIR(st.st_mode):
+                # a FIFO would block, a device never end
+                raise OSError(0, "not a regular file (a device, FIFO or socket)")
+            size = st.st_size
             if size > MAX_BYTES:
                 raise RecipeError(
                     "", f"expected a recipe of at most {MAX_BYTES} bytes, got {size} bytes"
@@ -364,6 +375,8 @@ class Recipe:
             renderer,
             flat,
             self._n_inputs,
+            self._tonemap,
+            self._exposure,
         )
 
     def pose_at(self, t: float = 0.0) -> Any:
@@ -457,7 +470,14 @@ class Recipe:
             raise RecipeError("steps", f"expected at most {MAX_STEPS} steps, got {len(steps)}")
         self._steps = tuple(_parse_step(s, f"steps[{k}]") for k, s in enumerate(steps))
         self._view = _parse_view(data.get("view", {}))
-        self._warp_kwargs, self._background = _parse_options(data.get("options", {}), self._steps)
+        options = data.get("options", {})
+        self._warp_kwargs, self._background = _parse_options(options, self._steps)
+        self._tonemap = None if options.get("tonemap") is None else _TONEMAP.parse_plain(
+            options["tonemap"], "options.tonemap"
+        )
+        self._exposure = None if options.get("exposure") is None else _EXPOSURE.parse_plain(
+            options["exposure"], "options.exposure"
+        )
         if self._view.get("size") is not None:
             w, h = self._view["size"]
             self._warp_kwargs["output_shape"] = (h, w)
@@ -581,7 +601,7 @@ def view_grid(view: dict[str, Any], in_shape: tuple[int, ...]) -> Any:
 def _parse_options(options: Any, steps: tuple[Step, ...]) -> tuple[dict[str, Any], str | None]:
     if not isinstance(options, dict):
         raise RecipeError("options", f"expected an object, got {describe(options)}")
-    known = ("interp", "supersample", "antialias", "background")
+    known = ("interp", "supersample", "antialias", "background", "tonemap", "exposure")
     for key in options:
         if key not in known:
             raise RecipeError(f"options.{key}", f"unknown option{suggest(key, known)}")
@@ -615,6 +635,14 @@ def _parse_options(options: Any, steps: tuple[Step, ...]) -> tuple[dict[str, Any
             "options.background",
             f"expected a colour name or #RRGGBB, got {describe(background)}",
         )
+    if background is not None:  # checked now, not when a transparent input meets it
+        from ..errors import InvalidValueError
+        from ..io.tonemap import parse_color
+
+        try:
+            parse_color(background)
+        except InvalidValueError as exc:
+            raise RecipeError("options.background", str(exc)) from None
     return kwargs, background
 
 
@@ -643,11 +671,31 @@ def _check_depth(data: Any) -> None:
             stack.extend((v, depth + 1) for v in items)
 
 
+#: the most digits of an integer in a recipe (more is beyond a float's range)
+MAX_DIGITS = 308
+
+
+def _parse_int(text: str) -> int:
+    digits = len(text.lstrip("-"))
+    if digits > MAX_DIGITS:
+        raise RecipeError("", f"expected numbers of at most {MAX_DIGITS} digits, got an integer "
+                          f"of {digits} digits")  # fmt: skip
+    return int(text)
+
+
+def _loads(text: str) -> Any:
+    return json.loads(
+        text, parse_constant=_refuse_constant, object_pairs_hook=_no_dupes, parse_int=_parse_int
+    )
+
+
 def _json_text(data: Any) -> str:
     """Python data as JSON text; refuse NaN, infinities and what JSON cannot hold."""
     try:
         return json.dumps(data, allow_nan=False)
-    except ValueError:
+    except ValueError as exc:
+        if "integer string conversion" in str(exc):  # an int of over 4300 digits
+            raise RecipeError("", f"expected numbers of at most {MAX_DIGITS} digits") from None
         raise RecipeError("", "expected finite numbers (JSON has no NaN or Infinity)") from None
     except TypeError as exc:
         raise RecipeError("", f"expected JSON data: {exc}") from None

@@ -214,6 +214,8 @@ def json_schema() -> dict[str, Any]:
                         ]
                     },
                     "background": {"type": ["string", "null"]},
+                    "tonemap": {"enum": ["aces", "reinhard", "clip"]},
+                    "exposure": {"type": "number", "minimum": -20, "maximum": 20},
                 },
             },
         },
