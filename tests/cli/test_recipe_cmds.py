@@ -259,6 +259,14 @@ BAD_NAMED = {
         "options.background: expected a colour name",
     ),
     "unknown tonemap": (_recipe(options={"tonemap": "filmic"}), "options.tonemap: expected"),
+    "a field of view its projection cannot show": (
+        _recipe(view={"projection": "rectilinear", "fov": 360}),
+        "view: expected a field of view in (0, 180) degrees for rectilinear, got 360",
+    ),
+    "a cube map's size": (
+        _recipe(view={"projection": "cubemap", "size": [5, 3]}),
+        "view: expected a cubemap of 3x2 square faces, got 5x3 (e.g. 6x4)",
+    ),
 }
 
 

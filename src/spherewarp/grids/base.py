@@ -447,7 +447,7 @@ class _Cube(Grid):
         super().__post_init__()
         h, w = self.shape
         if w * self.rows != h * self.cols:
-            s = max(1, w // self.cols)
+            s = max(1, round(max(w / self.cols, h / self.rows)))
             what = (
                 f"a {self.name} of {self.cols}x{self.rows} square faces, got {w}x{h} "
                 f"(e.g. {s * self.cols}x{s * self.rows})"

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ..errors import InvalidValueError
 from .effects import EFFECTS, warp_only
 from .errors import RecipeError
 from .params import Choice, Integer, Real, describe, is_number, suggest
@@ -470,6 +471,10 @@ class Recipe:
             raise RecipeError("steps", f"expected at most {MAX_STEPS} steps, got {len(steps)}")
         self._steps = tuple(_parse_step(s, f"steps[{k}]") for k, s in enumerate(steps))
         self._view = _parse_view(data.get("view", {}))
+        try:  # the grid's own checks (a field of view its projection can show), at the start
+            view_grid(self._view, (512, 1024))
+        except InvalidValueError as exc:
+            raise RecipeError("view", str(exc)) from None
         options = data.get("options", {})
         self._warp_kwargs, self._background = _parse_options(options, self._steps)
         self._tonemap = None if options.get("tonemap") is None else _TONEMAP.parse_plain(
@@ -636,7 +641,6 @@ def _parse_options(options: Any, steps: tuple[Step, ...]) -> tuple[dict[str, Any
             f"expected a colour name or #RRGGBB, got {describe(background)}",
         )
     if background is not None:  # checked now, not when a transparent input meets it
-        from ..errors import InvalidValueError
         from ..io.tonemap import parse_color
 
         try:
