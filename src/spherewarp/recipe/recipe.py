@@ -474,7 +474,9 @@ class Recipe:
         try:  # the grid's own checks (a field of view its projection can show), at the start
             view_grid(self._view, (512, 1024))
         except InvalidValueError as exc:
-            raise RecipeError("view", str(exc)) from None
+            err = RecipeError("view", str(exc))
+            err.cli_detail = exc.cli_message  # what a command's own --fov, --size got wrong
+            raise err from None
         options = data.get("options", {})
         self._warp_kwargs, self._background = _parse_options(options, self._steps)
         self._tonemap = None if options.get("tonemap") is None else _TONEMAP.parse_plain(
