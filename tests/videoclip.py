@@ -42,8 +42,12 @@ def make_clip(
     size=(W, H),
     pix_fmt="yuv420p",
     stereo: str | None = None,
+    audio_codec: str = "aac",
 ) -> Path:
     """Write the clip (H.264 at CRF 10, AAC mono at 48 kHz) to ``path``; return ``path``.
+
+    ``audio_codec``: the tone's encoder instead of AAC (``libmp3lame``, ``adpcm_ima_qt``...;
+    PyAV converts the samples to its format). The container follows ``path``'s extension.
 
     ``stereo`` ("top-bottom", "left-right"): two eyes of W x H from two different
     panoramas (:func:`stereo_panorama`), turning together, marked with ``st3d``.
@@ -57,7 +61,7 @@ def make_clip(
         v.width, v.height, v.pix_fmt = w, h, pix_fmt
         a = None
         if audio:
-            a = c.add_stream("aac", rate=48000)
+            a = c.add_stream(audio_codec, rate=48000)
             a.layout = "mono"
         for k in range(frames):
             img = np.roll(base, -4 * k, axis=1)

@@ -157,8 +157,12 @@ def test_encoders_listed():
 
 
 @pytest.mark.skipif(shutil.which("ffmpeg") is None, reason="ffmpeg is not installed")
-@pytest.mark.parametrize("container,codec", [("mp4", "mov_text"), ("mkv", "srt")])
-def test_subtitles_copied_or_dropped_with_a_warning(tmp_path, container, codec):
+@pytest.mark.parametrize(
+    "container,codec,output",
+    [("mp4", "mov_text", "mp4"), ("mkv", "srt", "mp4"), ("mkv", "srt", "mkv")],
+)
+def test_subtitles_copied_or_dropped_with_a_warning(tmp_path, container, codec, output):
+    """SubRip goes by its codec's name (subrip), not its decoder's (srt): kept in Matroska."""
     clip = make_clip(tmp_path / "c.mp4", frames=24)
     srt = tmp_path / "s.srt"
     srt.write_text(
@@ -170,13 +174,13 @@ def test_subtitles_copied_or_dropped_with_a_warning(tmp_path, container, codec):
         + ["-c", "copy", "-c:s", codec, str(src)],
         check=True,
     )
-    out = tmp_path / "o.mp4"
+    out = tmp_path / f"o.{output}"
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         render_video(src, out, lambda t: (ZOOM, {}))
     with av.open(str(out)) as c:
         kinds = [s.type for s in c.streams]
-    if codec == "mov_text":
+    if codec == "mov_text" or output == "mkv":
         assert kinds == ["video", "audio", "subtitle"] and not caught
 
         def subs(path):
@@ -187,9 +191,23 @@ def test_subtitles_copied_or_dropped_with_a_warning(tmp_path, container, codec):
     else:
         assert kinds == ["video", "audio"]
         assert [str(w.message) for w in caught] == [
-            "stream #2 (subtitle, srt) is dropped: an MP4/MOV file cannot hold subtitle in srt"
+            "stream #2 (subtitle, subrip) is dropped: an MP4/MOV file cannot hold subtitle in "
+            "subrip"
         ]
     assert audio_packets(out) == audio_packets(src)
+
+
+def test_mp3_audio_is_copied_into_mp4(tmp_path):
+    """MP3 goes by its codec's name (mp3), not its decoder's (mp3float): copied, no warning."""
+    src = make_clip(tmp_path / "mp3.mp4", frames=12, audio_codec="libmp3lame")
+    out = tmp_path / "o.mp4"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        render_video(src, out, lambda t: (ZOOM, {}))
+    assert not caught
+    with av.open(str(out)) as c:
+        assert [s.codec_context.codec.canonical_name for s in c.streams] == ["h264", "mp3"]
+    assert audio_packets(out) == audio_packets(src) and len(audio_packets(src)) > 5
 
 
 @pytest.mark.parametrize("layout", ["top-bottom", "left-right"])

@@ -78,6 +78,28 @@ def muxer(output: Path) -> str:
     return _MUXERS.get(output.suffix.lower(), "mp4")
 
 
+def codec_name(stream: Any) -> str:
+    """The name of ``stream``'s codec: FFmpeg's name of its codec id (``mp3``, ``subrip``,
+    ``mp2``), not its decoder's (``mp3float``, ``srt``, ``mp2float``), which the copy
+    decisions and their warnings must not go by; ``"unknown"`` when FFmpeg has none.
+
+    Parameters
+    ----------
+    stream : av.stream.Stream
+        A stream of an open input container.
+
+    Returns
+    -------
+    str
+    """
+    cc = stream.codec_context
+    if cc is not None:
+        return cc.codec.canonical_name or "unknown"
+    if stream.type == "data":  # no codec context: the codec id's descriptor names it
+        return stream.name or "unknown"
+    return "unknown"
+
+
 def _copyable(kind: str, codec: str, mux: str) -> bool:
     if mux == "matroska":
         return kind == "audio" or codec in _COPYABLE_MKV.get(kind, ())
@@ -229,7 +251,7 @@ def probe(path: str | os.PathLike[str]) -> VideoInfo:
             time_base=s.time_base,
             duration=duration,
             pix_fmt=pix,
-            codec=cc.name,
+            codec=cc.codec.canonical_name,
             bit_depth=_depth(pix),
             spherical=sph,
         )
@@ -684,7 +706,7 @@ def copy_streams(src: Any, dst: Any, vin: Any) -> dict[int, Any]:
     for s in src.streams:
         if s is vin:
             continue
-        name = s.codec_context.name if s.codec_context is not None else "unknown"
+        name = codec_name(s)
         if s.type == "video":
             why = "only the first video stream is warped"
         elif not _copyable(s.type, name, dst.format.name):

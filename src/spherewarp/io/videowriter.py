@@ -46,6 +46,7 @@ from .video import (
     _encoder,
     _pick_pix_fmt,
     check_container,
+    codec_name,
     default_codec,
     encoder_options,
     muxer,
@@ -238,7 +239,7 @@ def video_writer(
         if audio_from is not None:
             src = stack.enter_context(av.open(str(audio_from)))
             for s in src.streams:
-                name = s.codec_context.name if s.codec_context is not None else "unknown"
+                name = codec_name(s)
                 if s.type == "audio" and _copyable("audio", name, dst.format.name):
                     copies[s.index] = dst.add_stream_from_template(s)
                 elif s.type != "video":
