@@ -369,3 +369,20 @@ def test_a_stereo_still(workdir):
     code, _, err = run(None, "video", "c.mp4", "-o", "one.png", "rotate")
     assert code == 2 and one_line(err) and "holds one image" in err
     assert not (workdir / "one.png").exists()
+
+
+def test_audio_matroska_cannot_hold_is_dropped_with_one_warning(workdir):
+    """A MOV's adpcm_ima_qt audio into .mkv (segments joined): one warning line and the video,
+    not an internal error with OUT.parts/ left behind."""
+    make_clip(workdir / "adpcm.mov", frames=12, audio_codec="adpcm_ima_qt")
+    code, out, err = run(None, "video", "adpcm.mov", "-o", "o.mkv", "--quiet", "rotate")
+    assert code == 0 and out == "wrote o.mkv\n", err
+    said = [line for line in err.splitlines() if "compiling kernels" not in line]
+    assert said == [
+        "spherewarp: warning: stream #1 (audio, adpcm_ima_qt) is dropped: a Matroska file "
+        "cannot hold audio in adpcm_ima_qt"
+    ]
+    assert sorted(p.name for p in workdir.iterdir()) == ["adpcm.mov", "o.mkv"]
+    with av.open("o.mkv") as c:
+        assert [s.type for s in c.streams] == ["video"]
+        assert sum(1 for _ in c.decode(video=0)) == 12

@@ -191,8 +191,7 @@ def test_subtitles_copied_or_dropped_with_a_warning(tmp_path, container, codec, 
     else:
         assert kinds == ["video", "audio"]
         assert [str(w.message) for w in caught] == [
-            "stream #2 (subtitle, subrip) is dropped: an MP4/MOV file cannot hold subtitle in "
-            "subrip"
+            "stream #2 (subtitle, subrip) is dropped: an MP4 file cannot hold subtitle in subrip"
         ]
     assert audio_packets(out) == audio_packets(src)
 
@@ -208,6 +207,32 @@ def test_mp3_audio_is_copied_into_mp4(tmp_path):
     with av.open(str(out)) as c:
         assert [s.codec_context.codec.canonical_name for s in c.streams] == ["h264", "mp3"]
     assert audio_packets(out) == audio_packets(src) and len(audio_packets(src)) > 5
+
+
+@pytest.mark.parametrize(
+    "src,codec,refused,taken",
+    [("mov", "adpcm_ima_qt", ".mkv", ".mov"), ("mkv", "flac", ".mov", ".mp4")],
+)
+def test_audio_the_muxer_refuses_is_dropped_with_a_warning(tmp_path, src, codec, refused, taken):
+    """The muxer decides: Matroska holds no adpcm_ima_qt (it used to be taken for any audio,
+    and the muxer then raised), MOV no FLAC (its header refuses it); dropped with one
+    warning, the video whole. An output that holds it gets the packets as they are."""
+    clip = make_clip(tmp_path / f"in.{src}", frames=12, audio_codec=codec)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        render_video(clip, tmp_path / f"o{refused}", lambda t: (ZOOM, {}))
+    kind = {".mkv": "a Matroska", ".mov": "a MOV"}[refused]
+    assert [str(w.message) for w in caught] == [
+        f"stream #1 (audio, {codec}) is dropped: {kind} file cannot hold audio in {codec}"
+    ]
+    with av.open(str(tmp_path / f"o{refused}")) as c:
+        assert [s.type for s in c.streams] == ["video"]
+        assert sum(1 for _ in c.decode(video=0)) == 12
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        render_video(clip, tmp_path / f"o{taken}", lambda t: (ZOOM, {}))
+    assert not caught
+    assert audio_packets(tmp_path / f"o{taken}") == audio_packets(clip)
 
 
 @pytest.mark.parametrize("layout", ["top-bottom", "left-right"])

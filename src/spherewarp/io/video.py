@@ -8,9 +8,9 @@ writes an MP4/MOV file:
   frame keeps its presentation time, so the frame rate, time base, frame count
   and duration are kept, variable frame rates too; a 10-bit input stays 10-bit
   when the codec takes it;
-* audio packets are copied as they are (no re-encoding); subtitle and data
-  streams are copied where the container takes them and dropped with a warning
-  otherwise;
+* audio and subtitle packets are copied as they are (no re-encoding) where the
+  output's muxer takes their codec (:func:`muxer_takes`), and dropped with a warning
+  otherwise (so are data streams);
 * equirectangular spherical metadata (V1 and V2, :mod:`spherewarp.io.spherical`)
   is written on the output unless ``spherical=False``;
 * a map that ``frame_map`` returns again (the same object) is planned once
@@ -61,16 +61,11 @@ _WEBM_VIDEO = ("vp8", "vp9", "av1")
 _QUEUE = 4  # frames in flight between two stages
 _DEFAULT_CRF = {"libx264": 18, "libx265": 20, "libvpx-vp9": 31, "libsvtav1": 35}
 _HIGH_DEPTH_RGB = "rgb48le"
-#: codecs copied into the output as they are (the MP4/MOV muxers take them); others are dropped
-_COPYABLE = {
-    "audio": ("aac", "mp3", "ac3", "eac3", "opus", "flac", "alac", "pcm_s16le", "pcm_s24le"),
-    "subtitle": ("mov_text",),
-}
-#: the same for Matroska (any audio) and WebM
-_COPYABLE_MKV = {
-    "subtitle": ("subrip", "ass", "ssa", "webvtt", "hdmv_pgs_subtitle", "dvd_subtitle")
-}
-_COPYABLE_WEBM = {"audio": ("opus", "vorbis"), "subtitle": ("webvtt",)}
+#: the kinds of streams (besides the warped video) copied packet for packet where the
+#: output's muxer takes them
+_COPIED_KINDS = ("audio", "subtitle")
+#: how a warning names the file of each muxer
+_CONTAINER_NAMES = {"matroska": "a Matroska", "webm": "a WebM", "mov": "a MOV", "mp4": "an MP4"}
 
 
 def muxer(output: Path) -> str:
@@ -100,11 +95,36 @@ def codec_name(stream: Any) -> str:
     return "unknown"
 
 
-def _copyable(kind: str, codec: str, mux: str) -> bool:
-    if mux == "matroska":
-        return kind == "audio" or codec in _COPYABLE_MKV.get(kind, ())
-    table = _COPYABLE_WEBM if mux == "webm" else _COPYABLE
-    return codec in table.get(kind, ())
+def muxer_takes(stream: Any, mux: str) -> bool:
+    """Whether the FFmpeg muxer ``mux`` holds a packet-for-packet copy of ``stream``.
+
+    FFmpeg decides, not a table: the stream is added to a throwaway output in memory
+    (``avformat_query_codec``: MP4 holds no ADPCM, Matroska no ``adpcm_ima_qt`` nor
+    ``mov_text``, WebM only Opus, Vorbis and WebVTT) and its header written (which refuses
+    what the codec table allows but the muxer does not: FLAC or Opus in a MOV file).
+
+    Parameters
+    ----------
+    stream : av.stream.Stream
+        A stream of an open input container.
+    mux : str
+        The muxer's name (``mp4``, ``mov``, ``matroska``, ``webm``: :func:`muxer`).
+
+    Returns
+    -------
+    bool
+    """
+    import io
+
+    import av
+
+    try:
+        with av.open(io.BytesIO(), "w", format=mux) as trial:
+            trial.add_stream_from_template(stream)
+            trial.start_encoding()
+    except Exception:  # noqa: BLE001 - av raises several kinds (ValueError, FFmpegError...)
+        return False
+    return True
 
 
 def encoder_options(enc: Any, crf: float | None, preset: str | None) -> dict[str, str]:
@@ -703,15 +723,17 @@ def copy_streams(src: Any, dst: Any, vin: Any) -> dict[int, Any]:
     """Add to ``dst`` a copy of each stream of ``src`` but ``vin`` that its container holds
     (``{input stream index: output stream}``), warning of each one dropped."""
     copies: dict[int, Any] = {}
+    mux = dst.format.name
     for s in src.streams:
         if s is vin:
             continue
         name = codec_name(s)
         if s.type == "video":
             why = "only the first video stream is warped"
-        elif not _copyable(s.type, name, dst.format.name):
-            kind = {"matroska": "a Matroska", "webm": "a WebM"}.get(dst.format.name, "an MP4/MOV")
-            why = f"{kind} file cannot hold {s.type} in {name}"
+        elif s.type not in _COPIED_KINDS:
+            why = "only audio and subtitle streams are copied"
+        elif not muxer_takes(s, mux):
+            why = f"{_CONTAINER_NAMES.get(mux, 'the output')} file cannot hold {s.type} in {name}"
         else:
             copies[s.index] = dst.add_stream_from_template(s)
             continue

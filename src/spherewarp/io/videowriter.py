@@ -41,7 +41,6 @@ from .video import (
     _check_encoder,
     _check_even,
     _check_output,
-    _copyable,
     _depth,
     _encoder,
     _pick_pix_fmt,
@@ -50,6 +49,7 @@ from .video import (
     default_codec,
     encoder_options,
     muxer,
+    muxer_takes,
 )
 
 __all__ = ["VideoWriter", "video_writer", "check_writer", "frame_rate", "EQUIRECT"]
@@ -240,8 +240,14 @@ def video_writer(
             src = stack.enter_context(av.open(str(audio_from)))
             for s in src.streams:
                 name = codec_name(s)
-                if s.type == "audio" and _copyable("audio", name, dst.format.name):
+                if s.type == "audio" and muxer_takes(s, dst.format.name):
                     copies[s.index] = dst.add_stream_from_template(s)
+                elif s.type == "audio":
+                    warnings.warn(
+                        f"stream #{s.index} (audio, {name}) of '{audio_from}' is dropped: "
+                        f"'{output.name}' cannot hold audio in {name}",
+                        stacklevel=3,
+                    )
                 elif s.type != "video":
                     warnings.warn(
                         f"stream #{s.index} ({s.type}, {name}) of '{audio_from}' is dropped: "
