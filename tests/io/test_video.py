@@ -457,3 +457,85 @@ def test_each_segment_gives_its_memory_back(tmp_path, monkeypatch):
     segments.render_segmented(clip, tmp_path / "out.mp4", lambda t: (turn, {}),
                               segment_seconds=0.125)  # fmt: skip
     assert len(calls) == 4  # once after each segment
+
+
+def lossless_clip(path, pix_fmt, color_range, frames=3):
+    """The turning panorama as FFV1 (lossless) in Matroska, in ``pix_fmt`` and ``color_range``
+    (2: full, as ffmpeg tags grey), the samples converted from RGB in that range."""
+    from videoclip import frame
+
+    with av.open(str(path), "w") as c:
+        v = c.add_stream("ffv1", rate=12)
+        v.width, v.height, v.pix_fmt = 256, 128, pix_fmt
+        v.codec_context.color_range = color_range
+        for k in range(frames):
+            f = av.VideoFrame.from_ndarray(frame(k), format="rgb24")
+            f.color_range = color_range
+            f.pts = k
+            c.mux(v.encode(f))
+        c.mux(v.encode(None))
+    return path
+
+
+def first_frame(path, fmt="rgb24"):
+    with av.open(str(path)) as c:
+        f = next(c.decode(video=0))
+        return f.to_ndarray(format=fmt).astype(np.int32), int(f.color_range)
+
+
+@pytest.mark.parametrize("how", ["planes", "rgb", "segments"])
+@pytest.mark.parametrize(
+    "pix_fmt,color_range", [("gray", 2), ("gray10le", 2), ("yuv420p", 2), ("yuv420p", 0)]
+)
+def test_levels_are_kept_grey_and_full_range_too(tmp_path, pix_fmt, color_range, how):
+    """A turn by 360 degrees, lossless (--crf 0), gives the input's values back: a grey or a
+    full-range input's stream says full range (grey H.264 not so flagged was read as limited,
+    its contrast stretched by 255/219), a limited-range one stays limited; warped plane by
+    plane, through RGB, or in segments (the CLI's way)."""
+    from spherewarp.io.segments import render_segmented
+
+    src = lossless_clip(tmp_path / "in.mkv", pix_fmt, color_range)
+    out = tmp_path / "o.mp4"
+    turn = Mobius.from_yaw_pitch_roll(360, 0, 0)
+    if how == "segments":
+        render_segmented(src, out, lambda t: (turn, {}), crf=0)
+    else:
+        render_video(src, out, lambda t: (turn, {}), crf=0, planar=how == "planes")
+    (want, _), (got, got_range) = first_frame(src), first_frame(out)
+    assert got_range == (2 if color_range == 2 else 0)
+    slope = np.polyfit(want.ravel(), got.ravel(), 1)[0]
+    assert abs(slope - 1) < 0.02  # not stretched (255 / 219 = 1.16)
+    assert np.abs(got - want).max() <= (6 if how == "rgb" else 2)  # RGB and back: rounding
+
+
+@pytest.mark.parametrize("pix_fmt", ["gray", "yuvj420p"])
+def test_grey_and_yuvj_outputs_of_a_colour_clip_say_full_range(tmp_path, pix_fmt):
+    """--pix-fmt gray (or yuvj420p) of a limited-range colour clip, video_writer's (animate,
+    splitscreen) and an image sequence's: the encoder gets full-range samples (the luma of
+    the RGB frames), and the stream says so."""
+    from spherewarp.io import write_image
+    from spherewarp.io.sequence import render_sequence
+    from spherewarp.io.videowriter import video_writer
+    from videoclip import frame
+
+    src = lossless_clip(tmp_path / "in.mkv", "yuv420p", 0)
+    out = tmp_path / "o.mp4"
+    turn = Mobius.from_yaw_pitch_roll(360, 0, 0)
+    render_video(src, out, lambda t: (turn, {}), crf=0, pix_fmt=pix_fmt)
+
+    def grey(rgb):  # the luma of RGB pixels, in full range
+        f = av.VideoFrame.from_ndarray(np.ascontiguousarray(rgb, np.uint8), format="rgb24")
+        return f.reformat(format="gray").to_ndarray()
+
+    got, got_range = first_frame(out, "gray")
+    assert got_range == 2 and np.abs(got - grey(first_frame(src)[0])).max() <= 2
+    with video_writer(tmp_path / "w.mp4", (128, 256), 12, pix_fmt=pix_fmt, crf=0) as w:
+        w.write(frame(0))
+    got, got_range = first_frame(tmp_path / "w.mp4", "gray")
+    assert got_range == 2 and np.abs(got - grey(frame(0))).max() <= 2
+    for k in range(2):  # an image sequence to video
+        write_image(tmp_path / f"s{k}.png", frame(k))
+    render_sequence(tmp_path / "s%d.png", tmp_path / "s.mp4", lambda t: (turn, {}), crf=0,
+                    pix_fmt=pix_fmt)  # fmt: skip
+    got, got_range = first_frame(tmp_path / "s.mp4", "gray")
+    assert got_range == 2 and np.abs(got - grey(frame(0))).max() <= 2

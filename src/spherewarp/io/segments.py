@@ -67,7 +67,9 @@ from .video import (
     _check_output,
     _open,
     _video_stream,
+    add_video_stream,
     copy_streams,
+    encode,
     muxer,
     output_spherical,
     pipeline,
@@ -259,12 +261,10 @@ def _render_segment(
             vin.thread_type = "AUTO"
             rate = vin.average_rate or vin.guessed_rate or Fraction(24)
             with av.open(str(tmp), "w", format=_PART_FORMAT) as dst:
-                vout = dst.add_stream(s.codec, rate=rate, options=s.options)
-                vout.height, vout.width = s.size
-                vout.pix_fmt = s.out_pix
-                vout.time_base = vin.time_base
-                vout.codec_context.time_base = vin.time_base
-                vout.thread_type = "AUTO"
+                vout = add_video_stream(
+                    dst, s.codec, rate, s.options, s.size, s.out_pix, vin.time_base,
+                    s.color_range,
+                )  # fmt: skip
                 if job.index > 0:
                     src.seek(job.start_pts, stream=vin, backward=True, any_frame=False)
 
@@ -293,8 +293,8 @@ def _render_segment(
 
                 # decode, warp and encode at once (three threads, a few frames between)
                 pipeline(
-                    frames(), warp, lambda f: dst.mux(vout.encode(f)),
-                    lambda: dst.mux(vout.encode(None)),
+                    frames(), warp, lambda f: dst.mux(encode(vout, f)),
+                    lambda: dst.mux(encode(vout, None)),
                 )  # fmt: skip
         finally:
             src.close()
@@ -699,7 +699,7 @@ def render_segmented(
     full = (
         f"{identity}\n{s.codec} {s.out_pix} {sorted(s.options.items())} {s.size} {s.layout} "
         f"{planar}"
-    )
+    ) + (f" range {s.color_range}" if s.color_range else "")  # a full-range output's parts
 
     source = input if is_url(input) else os.path.abspath(input)
 

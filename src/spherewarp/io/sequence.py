@@ -53,11 +53,14 @@ from .video import (
     _encoder,
     _open,
     _pick_pix_fmt,
+    add_video_stream,
     check_container,
     default_codec,
+    encode,
     encoder_options,
     frame_layout,
     muxer,
+    output_range,
     output_spherical,
     pipeline,
     probe,
@@ -373,24 +376,23 @@ def _encode_sequence(
     high = _depth(out_pix) > 8
     rgb, dtype = ("rgb48le", np.uint16) if high else ("rgb24", np.uint8)
     options = encoder_options(enc, crf, preset)
-    _check_encoder(enc, out_pix, options, info, size)
+    color_range = output_range(out_pix)  # RGB frames: grey and yuvj are full range
+    _check_encoder(enc, out_pix, options, info, size, color_range)
     rate = info.rate or Fraction(DEFAULT_FPS)
     with atomic_file(output, overwrite=overwrite) as tmp:
         dst = av.open(str(tmp), "w", format=muxer(output))
         try:
-            vout = dst.add_stream(enc.name, rate=rate, options=options)
-            vout.height, vout.width = size
-            vout.pix_fmt = out_pix
-            vout.time_base = vout.codec_context.time_base = 1 / rate
-            vout.thread_type = "AUTO"
+            vout = add_video_stream(
+                dst, enc.name, rate, options, size, out_pix, 1 / rate, color_range
+            )  # fmt: skip
 
             def sink(k: int, t: float, pixels: np.ndarray) -> None:
                 frame = av.VideoFrame.from_ndarray(_to_rgb(pixels, dtype, tonemap), format=rgb)
                 frame.pts, frame.time_base = k, 1 / rate
-                dst.mux(vout.encode(frame))
+                dst.mux(encode(vout, frame))
 
             n = _pipeline(frames, frame_map, make_plan, sink, progress, info.frames)
-            dst.mux(vout.encode(None))
+            dst.mux(encode(vout, None))
         finally:
             dst.close()
         write_spherical(tmp, output_spherical(info, layout, grid, spherical))

@@ -182,6 +182,9 @@ class VideoInfo:
         8, or more for a high bit depth input.
     spherical : Spherical or None
         The input's spherical metadata (MP4/MOV).
+    color_range : int
+        The video stream's colour range, as FFmpeg numbers it (``AVColorRange``): 0
+        unspecified, 1 limited (MPEG, "tv"), 2 full (JPEG, "pc").
     """
 
     width: int
@@ -194,6 +197,7 @@ class VideoInfo:
     codec: str
     bit_depth: int
     spherical: Spherical | None
+    color_range: int = 0
 
 
 def _open(path: str | Path) -> Any:
@@ -241,6 +245,104 @@ def _depth(pix_fmt: str) -> int:
     return max((c.bits for c in fmt.components), default=8)
 
 
+#: FFmpeg's colour ranges (``AVColorRange``): unspecified (read as limited) and full
+RANGE_UNSPECIFIED, RANGE_FULL = 0, 2
+
+
+def output_range(out_pix: str, in_pix: str | None = None, in_range: int = 0) -> int:
+    """The colour range of the samples an encoder of ``out_pix`` gets, which its stream
+    must say (:data:`RANGE_FULL` or :data:`RANGE_UNSPECIFIED`, read as limited).
+
+    Grey and ``yuvj`` samples are full range (swscale converts RGB to them so, whatever
+    range is asked); a grey H.264 stream not flagged full range is decoded as limited-range
+    YUV, its contrast stretched by 255/219. A frame encoded in its own pixel format
+    (``out_pix == in_pix``: warped plane by plane, or through RGB converted back to the
+    input's range) keeps the input's range ``in_range``. Other YUV formats are written in
+    limited range.
+
+    Parameters
+    ----------
+    out_pix : str
+        The encoder's pixel format.
+    in_pix : str, optional
+        The input's pixel format.
+    in_range : int
+        The input's colour range (:attr:`VideoInfo.color_range`).
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> output_range("gray"), output_range("yuvj420p"), output_range("gray10le")
+    (2, 2, 2)
+    >>> output_range("yuv420p", "yuv420p", 2), output_range("yuv420p", "yuv420p", 1)
+    (2, 0)
+    >>> output_range("yuv444p", "yuv420p", 2)  # through RGB, converted to limited range
+    0
+    """
+    if out_pix.startswith(("gray", "yuvj")):
+        return RANGE_FULL
+    if out_pix == in_pix and in_range == RANGE_FULL:
+        return RANGE_FULL
+    return RANGE_UNSPECIFIED
+
+
+def add_video_stream(
+    dst: Any,
+    codec: str,
+    rate: Fraction,
+    options: dict[str, str],
+    size: tuple[int, int],
+    pix_fmt: str,
+    time_base: Fraction,
+    color_range: int = RANGE_UNSPECIFIED,
+) -> Any:
+    """Add the encoder's stream to the output container ``dst``.
+
+    Parameters
+    ----------
+    dst : av.container.OutputContainer
+    codec : str
+        The encoder.
+    rate : Fraction
+        The frame rate.
+    options : dict
+        The encoder's options (:func:`encoder_options`).
+    size : (height, width)
+    pix_fmt : str
+        The encoder's pixel format.
+    time_base : Fraction
+        The stream's and the encoder's time base.
+    color_range : int
+        The range of its samples (:func:`output_range`), written in the stream; frames
+        given in another pixel format are converted into it (:func:`encode`).
+
+    Returns
+    -------
+    av.video.stream.VideoStream
+    """
+    vout = dst.add_stream(codec, rate=rate, options=options)
+    vout.height, vout.width = size
+    vout.pix_fmt = pix_fmt
+    vout.time_base = time_base
+    vout.codec_context.time_base = time_base
+    vout.thread_type = "AUTO"
+    if color_range != RANGE_UNSPECIFIED:
+        vout.codec_context.color_range = color_range
+    return vout
+
+
+def encode(vout: Any, frame: Any) -> list[Any]:
+    """``vout.encode(frame)`` (None: flush), an RGB frame first tagged with the stream's colour
+    range: the encoder converts it to its pixel format in that range, the one its stream
+    says (RGB samples are full range whatever the tag)."""
+    if frame is not None and frame.format.is_rgb:
+        frame.color_range = vout.codec_context.color_range
+    return vout.encode(frame)
+
+
 def probe(path: str | os.PathLike[str]) -> VideoInfo:
     """Describe the first video stream of ``path``.
 
@@ -274,6 +376,7 @@ def probe(path: str | os.PathLike[str]) -> VideoInfo:
             codec=cc.codec.canonical_name,
             bit_depth=_depth(pix),
             spherical=sph,
+            color_range=int(cc.color_range or 0),
         )
 
 
@@ -359,14 +462,22 @@ def _quiet_stderr() -> Iterator[None]:
 
 
 def _check_encoder(
-    enc: Any, pix: str, options: dict[str, str], info: VideoInfo, size: tuple[int, int]
+    enc: Any,
+    pix: str,
+    options: dict[str, str],
+    info: Any,
+    size: tuple[int, int],
+    color_range: int = RANGE_UNSPECIFIED,
 ) -> None:
-    """Open the encoder once with its options, so a bad preset fails before anything is written."""
+    """Open the encoder once with its options (and colour range), so a bad preset fails
+    before anything is written."""
     import av
 
     cc = av.CodecContext.create(enc.name, "w")
     cc.height, cc.width = size
     cc.pix_fmt = pix
+    if color_range != RANGE_UNSPECIFIED:
+        cc.color_range = color_range
     cc.time_base = info.time_base
     cc.framerate = info.rate or Fraction(24)
     cc.options = dict(options)
@@ -584,7 +695,7 @@ def render_video(
             try:
                 _transcode(
                     src, dst, s.info, s.codec, s.out_pix, s.rgb, s.options, frame_map, progress,
-                    s.plan_maker(planar), s.size,
+                    s.plan_maker(planar), s.size, s.color_range,
                 )  # fmt: skip
             finally:
                 dst.close()
@@ -609,6 +720,7 @@ class Settings:
     options: dict[str, str]
     out_shape: tuple[int, int] | None
     force: bool
+    color_range: int = RANGE_UNSPECIFIED
 
     def plan_maker(self, planar: bool) -> Callable[[SphereMap, dict[str, Any], str], Any]:
         """``make_plan(inverse, build_options, in_pix)``: the frame plan of one map."""
@@ -656,9 +768,12 @@ def prepare(
     rgb = _HIGH_DEPTH_RGB if _depth(out_pix) > 8 else "rgb24"
     check_container(enc, output)
     options = encoder_options(enc, crf, preset)
+    color_range = output_range(out_pix, info.pix_fmt, info.color_range)
     if check:
-        _check_encoder(enc, out_pix, options, info, size)
-    return Settings(info, layout, grid, size, enc.name, out_pix, rgb, options, out_shape, force)
+        _check_encoder(enc, out_pix, options, info, size, color_range)
+    return Settings(
+        info, layout, grid, size, enc.name, out_pix, rgb, options, out_shape, force, color_range
+    )
 
 
 def frame_layout(
@@ -753,18 +868,16 @@ def _transcode(
     progress: Callable[[int, int], None] | None,
     make_plan: Callable[[SphereMap, dict[str, Any], str], Any],
     size: tuple[int, int],
+    color_range: int = RANGE_UNSPECIFIED,
 ) -> None:
     import av
 
     vin = src.streams.video[0]
     vin.thread_type = "AUTO"
     rate = vin.average_rate or vin.guessed_rate or Fraction(24)
-    vout = dst.add_stream(codec, rate=rate, options=options)
-    vout.height, vout.width = size
-    vout.pix_fmt = out_pix
-    vout.time_base = vin.time_base
-    vout.codec_context.time_base = vin.time_base
-    vout.thread_type = "AUTO"
+    vout = add_video_stream(
+        dst, codec, rate, options, size, out_pix, vin.time_base, color_range
+    )  # fmt: skip
     copies = copy_streams(src, dst, vin)
     total = info.frames
     plan: tuple[Any, Any] | None = None
@@ -798,6 +911,6 @@ def _transcode(
             item.stream = copies[item.stream_index]
             dst.mux(item)
         else:
-            dst.mux(vout.encode(item))
+            dst.mux(encode(vout, item))
 
-    pipeline(items(), warp, write, lambda: dst.mux(vout.encode(None)))
+    pipeline(items(), warp, write, lambda: dst.mux(encode(vout, None)))

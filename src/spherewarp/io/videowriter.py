@@ -44,12 +44,15 @@ from .video import (
     _depth,
     _encoder,
     _pick_pix_fmt,
+    add_video_stream,
     check_container,
     codec_name,
     default_codec,
+    encode,
     encoder_options,
     muxer,
     muxer_takes,
+    output_range,
 )
 
 __all__ = ["VideoWriter", "video_writer", "check_writer", "frame_rate", "EQUIRECT"]
@@ -92,7 +95,7 @@ class VideoWriter:
             pts, time_base = self.frames, self._vout.codec_context.time_base
         frame.pts, frame.time_base = pts, time_base
         self._mux_audio(float(pts * time_base))
-        self._dst.mux(self._vout.encode(frame))
+        self._dst.mux(encode(self._vout, frame))
         self.frames += 1
 
     def _mux_audio(self, until: float | None) -> None:
@@ -117,7 +120,7 @@ class VideoWriter:
             self._dst.mux(packet)
 
     def _finish(self, end: float | None) -> None:
-        self._dst.mux(self._vout.encode(None))
+        self._dst.mux(encode(self._vout, None))
         if end is None:
             self._mux_audio(None)
         else:  # the audio up to the end of the last frame; the rest is left out
@@ -172,7 +175,10 @@ def check_writer(
     check_container(enc, output)
     options = encoder_options(enc, crf, preset)
     tb = time_base or 1 / Fraction(rate)
-    _check_encoder(enc, out_pix, options, SimpleNamespace(time_base=tb, rate=rate), size)
+    _check_encoder(
+        enc, out_pix, options, SimpleNamespace(time_base=tb, rate=rate), size,
+        output_range(out_pix),
+    )  # fmt: skip
     return enc, out_pix, options, tb
 
 
@@ -229,12 +235,9 @@ def video_writer(
     rgb = "rgb48le" if _depth(out_pix) > 8 else "rgb24"
     with atomic_file(output, overwrite=overwrite) as tmp, contextlib.ExitStack() as stack:
         dst = stack.enter_context(av.open(str(tmp), "w", format=muxer(output)))
-        vout = dst.add_stream(enc.name, rate=rate, options=options)
-        vout.height, vout.width = size
-        vout.pix_fmt = out_pix
-        vout.time_base = tb
-        vout.codec_context.time_base = tb
-        vout.thread_type = "AUTO"
+        vout = add_video_stream(
+            dst, enc.name, rate, options, size, out_pix, tb, output_range(out_pix)
+        )  # fmt: skip
         audio, copies = None, {}
         if audio_from is not None:
             src = stack.enter_context(av.open(str(audio_from)))
