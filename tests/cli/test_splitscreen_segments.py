@@ -52,3 +52,23 @@ def test_splitscreen_resume_after_a_kill_gives_the_same_file(workdir, sig):
     assert digest("cut.mp4") == digest("whole.mp4")
     assert not Path("cut.mp4.parts").exists()
     assert packets("whole.mp4", "audio") == packets("a.mp4", "audio")
+
+
+def test_matroska_clips_are_counted_by_their_frames(workdir):
+    """An MKV records no frame count (VideoInfo.frames 0): the clips are counted from their
+    packets, as a single video is, so one of equal length gives no note and a shorter one
+    the right count (it said 'b.mkv' 0 frames, after 0 frames)."""
+    from spherewarp.io.multiclip import check_clips
+
+    make_clip(workdir / "a.mp4", frames=12)
+    make_clip(workdir / "same.mkv", frames=12)
+    make_clip(workdir / "short.mkv", frames=6)
+    _, n, note = check_clips([Path("a.mp4"), Path("same.mkv")])
+    assert (n, note) == (12, None)
+    code, out, err = run(None, "video", "a.mp4", "short.mkv", "-o", "o.mp4", *SPLIT)
+    assert code == 0 and out == "wrote o.mp4 (6 frames)\n", err
+    said = [line for line in err.splitlines() if "compiling kernels" not in line]
+    assert said == [
+        "spherewarp: note: the clips differ in length ('a.mp4' 12, 'short.mkv' 6 frames): "
+        "the output ends with the shortest, 'short.mkv', after 6 frames"
+    ]

@@ -34,16 +34,34 @@ __all__ = ["ClipsJob", "check_clips", "render_clips", "render_clips_segment"]
 
 
 def check_clips(
-    inputs: Sequence[Path], force: bool = False
+    inputs: Sequence[Path], force: bool = False, counts: Sequence[int] | None = None
 ) -> tuple[list[VideoInfo], int, str | None]:
     """Probe the clips: their descriptions, the frame count of the output (the shortest's) and
     a note when they differ in length (None when they agree).
+
+    Parameters
+    ----------
+    inputs : sequence of Path
+        The clips.
+    force : bool
+        Accept clips that are not 2:1.
+    counts : sequence of int, optional
+        Each clip's frame count, when the caller has counted them; by default they are
+        counted from the clips' packets (:func:`~spherewarp.io.segments.frame_times`, as a
+        single video's render counts them), never taken from the container's header, which
+        Matroska and WebM do not hold (:attr:`VideoInfo.frames` is 0 there).
+
+    Returns
+    -------
+    (list of VideoInfo, int, str or None)
 
     Raises
     ------
     InvalidValueError
         When the clips differ in frame rate, or one is not 2:1 without ``force``.
     """
+    from .segments import frame_times
+
     infos = [probe(p) for p in inputs]
     first = infos[0]
     for path, info in zip(inputs, infos, strict=True):
@@ -58,7 +76,9 @@ def check_clips(
                 f"'{path}' is {info.width}x{info.height}, not 2:1 (equirectangular); "
                 "pass --force to combine it anyway"
             )
-    counts = [i.frames for i in infos]
+    if counts is None:
+        counts = [len(frame_times(p)[0]) for p in inputs]
+    counts = list(counts)
     n = min(counts)
     note = None
     if len(set(counts)) > 1:
@@ -239,10 +259,9 @@ def render_clips(
     output = Path(output)
     if not overwrite and os.path.lexists(output):
         raise exists_error(output)
-    infos, n, differ = check_clips([Path(p) for p in inputs], force)
-    times = [frame_times(p) for p in paths]
-    count = min(len(pts) for pts, _ in times)
-    n = min(n, count) if n else count
+    times = [frame_times(p) for p in inputs]  # a bad clip is named as given
+    counts = [len(pts) for pts, _ in times]
+    infos, n, differ = check_clips([Path(p) for p in inputs], force, counts)
     if n == 0:
         raise InvalidValueError(f"'{inputs[0]}' has no frames to combine")
     if differ is not None and note is not None:
