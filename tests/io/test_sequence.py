@@ -110,6 +110,32 @@ def test_bad_sequences_write_nothing(tmp_path):
         render_sequence(tmp_path / "s%d.png", tmp_path / "s%d.png", lambda t: (ZOOM, {}))
 
 
+def test_existing_outputs_are_the_frames_the_writer_names(tmp_path):
+    """The check of existing files and the writer name the frames alike, from 0: '%d' next to
+    a '%05d' input writes 0.png..., so 00001.png (which '%d' also matches) is no reason to
+    refuse; the files it would write are, and --overwrite replaces them."""
+    seq = tmp_path / "seq"
+    seq.mkdir()
+    for k in range(1, 4):
+        write_image(seq / f"{k:05d}.png", frame(k))
+    n = render_sequence(seq / "%05d.png", seq / "%d.png", lambda t: (ZOOM, {}), fps=12)
+    assert n == 3 and sorted(p.name for p in seq.glob("?.png")) == ["0.png", "1.png", "2.png"]
+    (seq / "1.png").unlink()
+    with pytest.raises(OutputExistsError, match=r"seq/0.png' exists \(2 of the 3 frames"):
+        render_sequence(seq / "%05d.png", seq / "%d.png", lambda t: (ZOOM, {}), fps=12)
+    assert not (seq / "1.png").exists()  # refused before writing
+    render_sequence(seq / "%05d.png", seq / "%d.png", lambda t: (ZOOM, {}), overwrite=True)
+    names = {p.name for p in seq.iterdir()}
+    assert names == {"00001.png", "00002.png", "00003.png", "0.png", "1.png", "2.png"}
+    # a video that records no frame count (Matroska): its frames are counted, so a frame
+    # file past the first is found too
+    clip = make_clip(tmp_path / "c.mkv", frames=3, audio=False)
+    write_image(tmp_path / "f2.png", frame(0))
+    with pytest.raises(OutputExistsError, match=r"f2.png' exists \(1 of the 3 frames"):
+        render_sequence(clip, tmp_path / "f%d.png", lambda t: (ZOOM, {}))
+    assert not (tmp_path / "f0.png").exists()
+
+
 def test_an_interrupt_removes_the_frames_written(tmp_path):
     clip = make_clip(tmp_path / "c.mp4", frames=24, audio=False)
 

@@ -66,8 +66,8 @@ class _EffectGroup(click.Group):
     "--output",
     type=PathOrURL(),
     help="The video to write (.mp4, .mov, .m4v, .mkv or .webm), or an image sequence "
-    "(out/%05d.exr; PNG, TIFF, EXR...); may also follow the effect. A video (INPUT too) may "
-    "be an fsspec URL (ftp://host/out.mp4).",
+    "(out/%05d.exr, frames numbered from 0; PNG, TIFF, EXR...); may also follow the effect. "
+    "A video (INPUT too) may be an fsspec URL (ftp://host/out.mp4).",
 )
 @click.option(
     "--codec",

@@ -28,6 +28,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import re
 import warnings
@@ -102,6 +103,16 @@ def frames_of(path: str | os.PathLike[str]) -> list[Path]:
 
 
 def _frame_out(output: Path, k: int) -> Path:
+    """The file frame ``k`` (from 0) is written to: the pattern's name for ``k``
+    (:func:`frame_path`), or ``output`` itself for the one frame of a single image. The
+    writer and the check of existing files (:func:`_refuse_existing_frames`) both name the
+    frames by it.
+
+    Raises
+    ------
+    InvalidValueError
+        For ``k > 0`` and an ``output`` that is one image, not a pattern.
+    """
     if is_pattern(output):
         return frame_path(output, k)
     if k:
@@ -158,6 +169,9 @@ def find_frames(pattern: str | os.PathLike[str]) -> list[Path]:
 
 
 def _check_image_output(pattern: Path, overwrite: bool) -> None:
+    """Refuse an image output that names no image format or holds no one pattern, and an
+    existing single image unless ``overwrite`` (a pattern's frames: see
+    :func:`_refuse_existing_frames`, once their count is known)."""
     if is_pattern(pattern):
         split_pattern(pattern)
     elif pattern.exists() and not overwrite:
@@ -167,13 +181,24 @@ def _check_image_output(pattern: Path, overwrite: bool) -> None:
             f"cannot write '{pattern}': unknown image extension {pattern.suffix or '(none)'!r}; "
             f"use one of {', '.join(SUPPORTED_EXTENSIONS)}"
         )
-    if not overwrite and is_pattern(pattern):
-        try:
-            existing = find_frames(pattern)
-        except ImageFormatError:
-            return
+
+
+def _refuse_existing_frames(pattern: Path, frames: int, overwrite: bool) -> None:
+    """Refuse, unless ``overwrite``, to write ``frames`` frames to ``pattern`` when a file they
+    would be written to exists: the names the writer gives them (:func:`_frame_out`, from 0),
+    not every file the pattern matches (``%d`` matches ``00001.png``, which it never writes).
+
+    Raises
+    ------
+    OutputExistsError
+        Naming the first such file and how many there are.
+    """
+    if overwrite or not is_pattern(pattern):
+        return
+    existing = [p for p in (_frame_out(pattern, k) for k in range(frames)) if p.exists()]
+    if existing:
         raise OutputExistsError(
-            f"'{existing[0]}' exists ({len(existing)} frames of '{pattern}'); "
+            f"'{existing[0]}' exists ({len(existing)} of the {frames} frames of '{pattern}'); "
             "pass --overwrite to replace them"
         )
 
@@ -288,9 +313,15 @@ def render_sequence(
             raise InvalidValueError(
                 "--fps applies to an image sequence input; a video keeps its frame times"
             )
+        if output_seq:  # counted from the packets, as a video render does (MKV records none)
+            from .segments import frame_times
+
+            info = dataclasses.replace(info, frames=len(frame_times(input)[0]))
     layout, grid, size = frame_layout(info, input, stereo, grid, out_shape, force)
     if output_seq and info.frames > 1:
         _frame_out(output, info.frames - 1)  # one image cannot hold them
+    if output_seq:
+        _refuse_existing_frames(output, info.frames, overwrite)
     gpano = is_panorama(grid) and layout == "mono"
 
     def frames() -> Iterator[tuple[float, np.ndarray]]:
