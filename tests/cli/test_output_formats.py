@@ -84,6 +84,18 @@ def test_float_formats_keep_hdr_without_a_note(tmp_path: Path, ext: str) -> None
     assert px.dtype == np.float32 and px.max() > 100
 
 
+def test_nan_samples_in_an_input_are_said_once(tmp_path: Path) -> None:
+    x = np.random.default_rng(0).random((32, 64, 3)).astype(np.float32)
+    x[10, 10] = np.nan
+    x[20, 20, 1] = np.inf
+    write_image(tmp_path / "nan.exr", x)
+    nan = tmp_path / "nan.exr"
+    code, _, err = run(None, "rotate", nan, "--yaw", "30", "-o", tmp_path / "o.exr")
+    assert code == 0 and "has 4 NaN or infinite sample(s)" in _note(err)
+    code, _, err = run(None, "rotate", nan, "--yaw", "30", "-o", tmp_path / "q.exr", "-q")
+    assert code == 0 and err == ""
+
+
 def test_cropped_panorama_to_jpeg_in_one_command(tmp_path: Path, cropped: Path) -> None:
     out = tmp_path / "out.jpg"
     code, _, err = run(None, "rotate", cropped, "--yaw", "20", "-o", out)

@@ -648,6 +648,15 @@ def load_input(path: Path | str, render: RenderOptions | None = None, label: str
         job().reads(path, label)
         data = read_image(path, max_pixels=limit)
     check_equirect(data.pixels, force=bool(render and render.force), name=str(path))
+    if render is not None and data.pixels.dtype.kind == "f":
+        import numpy as np
+
+        bad = int(data.pixels.size - np.count_nonzero(np.isfinite(data.pixels)))
+        if bad:  # a renderer's fireflies: said once, kept as they are (no value is invented)
+            render.note(
+                f"'{path}' has {bad} NaN or infinite sample(s); they spread to the output "
+                "pixels that sample them"
+            )
     return data
 
 
