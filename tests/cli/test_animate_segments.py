@@ -75,3 +75,10 @@ def test_animate_segment_options_need_a_video_output(spin):
     assert "--crf" in err and not Path("v.mp4").exists()
     err = fails(None, "animate", *spin, "-o", "v.mp4", "--preset", "no-such-preset")
     assert "--preset" in err and not Path("v.mp4").exists() and not Path("v.mp4.parts").exists()
+
+
+@pytest.mark.parametrize("value", ["nan", "inf"])
+def test_a_segment_length_that_is_not_finite_is_refused(spin, value):
+    err = fails(None, "animate", *spin, "-o", "n.mp4", "--segment", value, "-q")
+    assert "'--segment'" in err and "finite" in err and value in err, err
+    assert not Path("n.mp4").exists() and not Path("n.mp4.parts").exists()

@@ -203,3 +203,10 @@ def test_an_output_url_naming_the_input_url_is_refused():
     url = "ftp://127.0.0.1:1/in.mp4"  # refused before any connection
     err = fails(None, "video", url, "-o", url, "--overwrite", *ROTATE)
     assert "names the input; an input is never overwritten" in err
+
+
+@pytest.mark.parametrize("value", ["nan", "inf", "-inf"])
+def test_a_segment_length_that_is_not_finite_is_refused(clip, value):
+    err = fails(None, "video", clip.name, "-o", "n.mp4", "--segment", value, *ROTATE)
+    assert "'--segment'" in err and "finite" in err and value in err, err
+    assert not Path("n.mp4").exists() and not Path("n.mp4.parts").exists()

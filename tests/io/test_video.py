@@ -539,3 +539,17 @@ def test_grey_and_yuvj_outputs_of_a_colour_clip_say_full_range(tmp_path, pix_fmt
                     pix_fmt=pix_fmt)  # fmt: skip
     got, got_range = first_frame(tmp_path / "s.mp4", "gray")
     assert got_range == 2 and np.abs(got - grey(frame(0))).max() <= 2
+
+
+@pytest.mark.parametrize("seconds", [float("nan"), float("inf"), 0.0, -1.0])
+def test_a_segment_length_that_is_not_a_finite_positive_number_is_refused(tmp_path, seconds):
+    from spherewarp.io.segments import render_segmented, segment_frames
+    from videoclip import make_clip
+
+    with pytest.raises(InvalidValueError, match="--segment"):
+        segment_frames(seconds, 24)
+    clip = make_clip(tmp_path / "in.mp4", frames=2, audio=False)
+    turn = Mobius.from_yaw_pitch_roll(30, 0, 0).inverse()
+    with pytest.raises(InvalidValueError, match="--segment"):
+        render_segmented(clip, tmp_path / "out.mp4", lambda t: (turn, {}), segment_seconds=seconds)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["in.mp4"]

@@ -17,6 +17,8 @@ from typing import Any
 
 import click
 
+from ._common import RealType
+
 __all__ = [
     "encoding_options",
     "is_video_output",
@@ -107,6 +109,11 @@ class PathOrURL(click.Path):
         return super().convert(value, param, ctx)
 
 
+#: ``--segment S``: a finite number of seconds above 0 (click's FloatRange lets nan and inf
+#: through, which then broke the segment plan's ``round(S * rate)``)
+SEGMENT_SECONDS = RealType("a segment length in seconds", "10", metavar="S", gt=0)
+
+
 def segment_options(func: Callable) -> Callable:
     """``--progress``, ``--segment``, ``--resume``, ``--jobs`` and ``--dask``: a video output
     rendered in segments (:func:`spherewarp.io.segments.run_segments`), as ``video`` and
@@ -122,7 +129,7 @@ def segment_options(func: Callable) -> Callable:
         ),
         click.option(
             "--segment",
-            type=click.FloatRange(min=0, min_open=True),
+            type=SEGMENT_SECONDS,
             default=None,
             metavar="S",
             help="Seconds of video in each segment (default 10): a video is rendered in "
@@ -290,7 +297,7 @@ def animate_video(
     import numpy as np
 
     from ..io.remote import is_url
-    from ..io.segments import DEFAULT_SEGMENT_SECONDS, Segmented, join, local_name, run_segments
+    from ..io.segments import Segmented, join, local_name, run_segments, segment_frames
     from ..io.segments import _input_identity as identity_of
     from ..io.spherical import write_spherical
     from ..io.video import muxer
@@ -305,7 +312,7 @@ def animate_video(
     enc, out_pix, _, _ = check_writer(named, size, rate, in_pix=in_pix, **encoding)
     encoding = {**encoding, "codec": enc.name, "pix_fmt": out_pix}  # parts are MP4 files
     quiet = replace(render, quiet=True)  # workers draw no bars
-    step = max(1, round((segments["segment"] or DEFAULT_SEGMENT_SECONDS) * float(rate)))
+    step = segment_frames(segments["segment"], float(rate))
     ranges = [(a, min(a + step, len(times))) for a in range(0, len(times), step)]
     paths = [p if is_url(p) else os.path.abspath(p) for p in inputs]  # as workers reach them
 

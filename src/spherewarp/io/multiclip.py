@@ -243,13 +243,13 @@ def render_clips(
 
     from .atomic import exists_error
     from .segments import (
-        DEFAULT_SEGMENT_SECONDS,
         Segmented,
         _input_identity,
         frame_times,
         join,
         plan_segments,
         run_segments,
+        segment_frames,
     )
     from .spherical import write_spherical
     from .video import muxer
@@ -287,7 +287,7 @@ def render_clips(
     )  # fmt: skip
     encoding = {"codec": enc.name, "crf": crf, "preset": preset, "pix_fmt": out_pix}
     lead_pts = times[0][0]
-    step = max(1, round((segment_seconds or DEFAULT_SEGMENT_SECONDS) * float(rate)))
+    step = segment_frames(segment_seconds, float(rate))
     ranges = plan_segments(lead_pts[:n], step)
 
     def job(i: int, part: str) -> ClipsJob:

@@ -47,6 +47,7 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import json
+import math
 import os
 import shutil
 from collections.abc import Callable, Iterator
@@ -93,6 +94,7 @@ __all__ = [
     "render_segmented",
     "resume_hint",
     "run_segments",
+    "segment_frames",
     "Segmented",
 ]
 
@@ -135,6 +137,28 @@ def frame_times(input: str | os.PathLike[str]) -> tuple[list[int], Fraction]:
         vin = _video_stream(c, path)
         pts = [p.pts for p in c.demux(vin) if p.pts is not None and p.size]
         return sorted(pts), vin.time_base
+
+
+def segment_frames(seconds: float | None, rate: float) -> int:
+    """The frames a segment of ``seconds`` (None: :data:`DEFAULT_SEGMENT_SECONDS`) holds at
+    ``rate`` frames a second: one at least.
+
+    Raises
+    ------
+    InvalidValueError
+        For ``seconds`` that is not a finite number above 0 (nan, inf).
+
+    Examples
+    --------
+    >>> segment_frames(0.5, 24), segment_frames(None, 30000 / 1001), segment_frames(1e-9, 24)
+    (12, 300, 1)
+    """
+    seconds = DEFAULT_SEGMENT_SECONDS if seconds is None else float(seconds)
+    if not (math.isfinite(seconds) and seconds > 0):
+        raise InvalidValueError(
+            f"--segment {seconds!r}: expected a finite number of seconds above 0 (e.g. 10)"
+        )
+    return max(1, min(2**62, round(seconds * float(rate))))
 
 
 def plan_segments(pts: list[int], frames_per_segment: int) -> list[tuple[int, int]]:
@@ -695,7 +719,7 @@ def render_segmented(
     if not pts:
         raise InvalidValueError(f"'{input}' has no video frames")
     rate = float(s.info.rate or 24)
-    ranges = plan_segments(pts, max(1, round(segment_seconds * rate)))
+    ranges = plan_segments(pts, segment_frames(segment_seconds, rate))
     full = (
         f"{identity}\n{s.codec} {s.out_pix} {sorted(s.options.items())} {s.size} {s.layout} "
         f"{planar}"
