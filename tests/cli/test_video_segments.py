@@ -210,3 +210,46 @@ def test_a_segment_length_that_is_not_finite_is_refused(clip, value):
     err = fails(None, "video", clip.name, "-o", "n.mp4", "--segment", value, *ROTATE)
     assert "'--segment'" in err and "finite" in err and value in err, err
     assert not Path("n.mp4").exists() and not Path("n.mp4.parts").exists()
+
+
+@pytest.mark.parametrize(
+    "case",
+    ["a note", "a note and --resume", "a note beside a manifest", "a junk manifest", "a file"],
+)
+def test_a_work_folder_spherewarp_did_not_make_is_refused_and_kept(clip, case):
+    """OUT.parts/ holding anything spherewarp does not write there is someone else's: refused in
+    one line naming it, and left as it was (it used to be removed, whatever it held)."""
+    parts = Path("p.mp4.parts")
+    if case == "a file":
+        parts.write_text("precious\n")
+    else:
+        parts.mkdir()
+        if case == "a junk manifest":
+            (parts / "manifest.json").write_text("precious\n")
+        else:
+            (parts / "notes.txt").write_text("precious\n")
+        if case == "a note beside a manifest":
+            (parts / "manifest.json").write_text(json.dumps({"spherewarp_segments": 1}))
+    before = {p.name: p.read_bytes() for p in parts.iterdir()} if parts.is_dir() else None
+    more = ("--resume",) if "resume" in case or "beside" in case else ()
+    err = fails(None, "video", clip.name, "-o", "p.mp4", "--segment", SEG, *more, *ROTATE)
+    assert "'p.mp4.parts' is not a spherewarp work folder" in err and "-o" in err, err
+    assert "remove it, or choose another -o" in err
+    if before is None:
+        assert parts.read_text() == "precious\n"
+    else:
+        assert {p.name: p.read_bytes() for p in parts.iterdir()} == before
+    assert not Path("p.mp4").exists()
+
+
+def test_a_work_folder_left_by_an_earlier_render_is_still_replaced(clip):
+    parts = Path("w.mp4.parts")
+    parts.mkdir()
+    (parts / "manifest.json").write_text(json.dumps({"spherewarp_segments": 1, "done": {}}))
+    (parts / "seg-00000-0123abcd.mp4").write_bytes(b"old")  # another render's segment
+    (parts / ".seg-00001-0123abcd.mp4.spherewarp-99999-0123abcd.tmp.mp4").write_bytes(b"")
+    (parts / "..seg-00002-0123abcd.mp4.spherewarp-99999-0123abcd.tmp.mp4.spherewarp-99999-"
+     "4567abcd.tmp.mp4").write_bytes(b"")  # a temporary file's own (an atomic writer inside)
+    ok(None, "video", clip.name, "-o", "w.mp4", "--segment", SEG, "--quiet", *ROTATE)
+    assert not parts.exists() and times("w.mp4") == times(clip)
+

@@ -44,6 +44,7 @@ __all__ = [
     "put_atomic",
     "read_text",
     "reachable",
+    "names",
     "remove_tree",
     "size",
 ]
@@ -178,6 +179,23 @@ def make_folder(url: str) -> None:
     fs, path = filesystem(url)
     fs.invalidate_cache()
     fs.makedirs(path, exist_ok=True)
+
+
+def names(url: str) -> list[str] | None:
+    """The names of what the folder ``url`` holds, or None when nothing is there.
+
+    Raises
+    ------
+    NotADirectoryError
+        When ``url`` names a file.
+    """
+    fs, path = filesystem(url)
+    fs.invalidate_cache()
+    if not fs.exists(path):
+        return None
+    if not fs.isdir(path):
+        raise NotADirectoryError(20, "Not a directory", url)
+    return [str(p).rstrip("/").rsplit("/", 1)[-1] for p in fs.ls(path, detail=False)]
 
 
 def remove_tree(url: str) -> None:

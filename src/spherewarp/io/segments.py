@@ -49,7 +49,7 @@ import hashlib
 import json
 import math
 import os
-import shutil
+import re
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -103,6 +103,15 @@ DEFAULT_SEGMENT_SECONDS = 10.0
 _MANIFEST = "manifest.json"
 _VERSION = 1
 _PART_FORMAT = "mp4"  # keeps every pts and dts (an edit list for a B-frame delay)
+_SEG = rf"seg-\d{{5,}}(?:-[0-9a-f]{{8}})?\.{_PART_FORMAT}"
+#: the names spherewarp writes in a work folder, and so may remove: the manifest, the
+#: segments, their temporary files (a local one's: :func:`~spherewarp.io.atomic.temp_name`,
+#: and a temporary file's own, from a writer that writes atomically too; a URL's:
+#: :func:`~spherewarp.io.remote.put_atomic`) and a worker's probe (``--dask``)
+_OURS = re.compile(
+    rf"manifest\.json|{_SEG}|\.+(?:manifest\.json|seg-\d{{5,}})[^/]*\.spherewarp-\d+-"
+    r"[0-9a-f]{8}\.tmp[^/]*|\.spherewarp-probe-[0-9a-f]{8}"
+)
 
 #: the line an interrupt adds (the CLI prints it), while a segmented render runs
 resume_hint: str | None = None
@@ -403,11 +412,85 @@ class _Folder:
         else:
             self.where.mkdir(parents=True, exist_ok=True)
 
-    def remove(self) -> None:
+    def names(self) -> list[str] | None:
+        """The names of what the folder holds; None when nothing is there.
+
+        Raises
+        ------
+        NotADirectoryError
+            When a file is there.
+        """
         if self.url:
-            remote.remove_tree(self.where)
+            return remote.names(self.where)
+        if not os.path.lexists(self.where):
+            return None
+        if not self.where.is_dir():
+            raise NotADirectoryError(20, "Not a directory", str(self.where))
+        return os.listdir(self.where)
+
+    def remove(self) -> None:
+        """Remove the files spherewarp writes here (:data:`_OURS`), then the folder if that
+        leaves it empty: whatever else is there (put there by someone else, meanwhile) stays."""
+        try:
+            names = self.names() or []
+        except OSError:
+            return
+        ours = [n for n in names if _OURS.fullmatch(n)]
+        if self.url:
+            if len(ours) == len(names):
+                remote.remove_tree(self.where)
+            return
+        for name in ours:
+            with contextlib.suppress(OSError):
+                (self.where / name).unlink()
+        with contextlib.suppress(OSError):
+            self.where.rmdir()
+
+    def check_ours(self, output: Path | str) -> None:
+        """Refuse a work folder that spherewarp did not make: a file, or a folder holding
+        anything but a spherewarp manifest and the files spherewarp writes beside it
+        (:data:`_OURS`). Nothing there, or an empty folder, is fine.
+
+        Raises
+        ------
+        InvalidValueError
+            Naming the folder and what to do (remove it, or choose another -o).
+        """
+        try:
+            names = self.names()
+        except NotADirectoryError:
+            raise InvalidValueError(
+                f"-o {output}: '{self}' is not a spherewarp work folder (it is a file), so it "
+                "is left as it is; remove it, or choose another -o"
+            ) from None
+        if not names:
+            return
+        foreign = sorted(n for n in names if not _OURS.fullmatch(n))
+        if foreign:
+            listed = ", ".join(f"'{n}'" for n in foreign[:3])
+            more = f" and {len(foreign) - 3} more" if len(foreign) > 3 else ""
+            what = f"{listed}{more}: not written by spherewarp"
+        elif _MANIFEST in names:
+            if _is_manifest(self.read(_MANIFEST)):
+                return
+            what = f"a {_MANIFEST} that is not a spherewarp manifest"
+        elif any(n.startswith("seg-") for n in names):
+            what = f"segment files but no {_MANIFEST}"
         else:
-            shutil.rmtree(self.where, ignore_errors=True)
+            return  # only temporary files of ours (a render stopped before its manifest)
+        raise InvalidValueError(
+            f"-o {output}: '{self}' is not a spherewarp work folder (it holds {what}), so it "
+            "is left as it is; remove it, or choose another -o"
+        )
+
+
+def _is_manifest(text: str | None) -> bool:
+    """Whether ``text`` is a spherewarp manifest (JSON with its version key)."""
+    try:
+        data = json.loads(text) if text is not None else None
+    except ValueError:
+        return False
+    return isinstance(data, dict) and "spherewarp_segments" in data
 
 
 @dataclass
@@ -824,6 +907,7 @@ def run_segments(
     global resume_hint
     output = plan.output
     work = _Folder(parts_dir(output))
+    work.check_ours(output)  # someone else's folder is never emptied
     client = None
     if dask is not None:
         client = dask_client(dask) if isinstance(dask, str) else dask
