@@ -253,3 +253,19 @@ def test_a_work_folder_left_by_an_earlier_render_is_still_replaced(clip):
     ok(None, "video", clip.name, "-o", "w.mp4", "--segment", SEG, "--quiet", *ROTATE)
     assert not parts.exists() and times("w.mp4") == times(clip)
 
+
+def test_an_output_under_a_file_names_the_output(clip):
+    err = fails(None, "video", clip.name, "-o", f"{clip.name}/x.mp4", *ROTATE)
+    assert f"cannot write '{clip.name}/x.mp4': '{clip.name}' is not a directory" in err, err
+
+
+def test_an_output_in_a_read_only_folder_names_the_output(clip):
+    Path("ro").mkdir()
+    os.chmod("ro", 0o555)
+    try:
+        if os.access("ro", os.W_OK):
+            pytest.skip("this user writes into a read-only folder (root)")
+        err = fails(None, "video", clip.name, "-o", "ro/x.mp4", *ROTATE)
+        assert "cannot write 'ro/x.mp4': Permission denied" in err and ".parts" not in err, err
+    finally:
+        os.chmod("ro", 0o755)

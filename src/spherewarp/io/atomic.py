@@ -157,10 +157,17 @@ def unwritable_error(path: Path, exc: OSError) -> ImageFormatError:
     "cannot write 'no/such/dir/a.mp4': directory 'no/such/dir' does not exist"
     >>> str(unwritable_error(Path("/a.png"), PermissionError(13, "Permission denied")))
     "cannot write '/a.png': Permission denied"
+    >>> bad = NotADirectoryError(20, "Not a directory")
+    >>> str(unwritable_error(Path(__file__) / "a.mp4", bad))  # doctest: +ELLIPSIS
+    "cannot write '.../atomic.py/a.mp4': '.../atomic.py' is not a directory"
     """
     parent = path.parent
     if isinstance(exc, FileNotFoundError) and not parent.exists():
         return ImageFormatError(f"cannot write '{path}': directory '{parent}' does not exist")
+    if isinstance(exc, NotADirectoryError):  # a file where a folder of the path should be
+        for folder in path.parents:
+            if os.path.lexists(folder) and not folder.is_dir():
+                return ImageFormatError(f"cannot write '{path}': '{folder}' is not a directory")
     return ImageFormatError(f"cannot write '{path}': {exc.strerror or exc}")
 
 

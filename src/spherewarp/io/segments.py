@@ -56,9 +56,9 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
-from ..errors import InvalidValueError, SpherewarpError
+from ..errors import ImageFormatError, InvalidValueError, SpherewarpError
 from . import remote
-from .atomic import atomic_file, write_text
+from .atomic import atomic_file, unwritable_error, write_text
 from .remote import is_url
 from .spherical import Spherical, write_spherical
 from .video import (
@@ -907,14 +907,19 @@ def run_segments(
     global resume_hint
     output = plan.output
     work = _Folder(parts_dir(output))
-    work.check_ours(output)  # someone else's folder is never emptied
+    with _writing(output):
+        work.check_ours(output)  # someone else's folder is never emptied
     client = None
     if dask is not None:
         client = dask_client(dask) if isinstance(dask, str) else dask
-        work.make()
+        with _writing(output):
+            work.make()
         check_workers(client, plan.reads, [work.where if work.url else os.path.abspath(work.where)])
     ranges = [(g["start"], g["end"]) for g in plan.segments]
-    manifest = _open_manifest(work, plan.source, plan.name, plan.identity, plan.segments, resume)
+    with _writing(output):
+        manifest = _open_manifest(
+            work, plan.source, plan.name, plan.identity, plan.segments, resume
+        )
     todo = [
         plan.job(i, work.file(manifest.part(i))) for i in range(len(ranges)) if not manifest.done(i)
     ]
@@ -942,6 +947,19 @@ def run_segments(
         if client is not None and isinstance(dask, str):
             client.close()
     work.remove()
+
+
+@contextlib.contextmanager
+def _writing(output: Path | str) -> Iterator[None]:
+    """Turn an OSError of the block (making the work folder, writing its manifest) into the
+    error that names ``output``, as a still's does (:func:`~spherewarp.io.atomic.unwritable_error`:
+    ``cannot write 'OUT': reason``), not the work folder the user never named."""
+    try:
+        yield
+    except OSError as exc:
+        if is_url(output):
+            raise ImageFormatError(f"cannot write '{output}': {exc.strerror or exc}") from exc
+        raise unwritable_error(Path(output), exc) from exc
 
 
 def _write_output(output: Path | str, overwrite: bool, write: Callable[[Path], None]) -> None:
