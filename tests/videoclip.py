@@ -43,8 +43,12 @@ def make_clip(
     pix_fmt="yuv420p",
     stereo: str | None = None,
     audio_codec: str = "aac",
+    gop: int | None = None,
 ) -> Path:
-    """Write the clip (H.264 at CRF 10, AAC mono at 48 kHz) to ``path``; return ``path``.
+    """Write the clip (H.264 at CRF 10, AAC mono at 48 kHz) to ``path``; return ``path`` (its
+    extension picks the container: ``.ts`` MPEG-TS...).
+
+    ``gop``: a keyframe every ``gop`` frames (default: x264's, 250).
 
     ``audio_codec``: the tone's encoder instead of AAC (``libmp3lame``, ``adpcm_ima_qt``...;
     PyAV converts the samples to its format). The container follows ``path``'s extension.
@@ -57,7 +61,8 @@ def make_clip(
     base = panorama() if stereo is None else stereo_panorama(stereo)
     w, h = size if stereo is None else (base.shape[1], base.shape[0])
     with av.open(str(path), "w") as c:
-        v = c.add_stream("libx264", rate=RATE, options={"crf": "10"})
+        options = {"crf": "10"} if gop is None else {"crf": "10", "g": str(gop)}
+        v = c.add_stream("libx264", rate=RATE, options=options)
         v.width, v.height, v.pix_fmt = w, h, pix_fmt
         a = None
         if audio:

@@ -269,3 +269,21 @@ def test_an_output_in_a_read_only_folder_names_the_output(clip):
         assert "cannot write 'ro/x.mp4': Permission denied" in err and ".parts" not in err, err
     finally:
         os.chmod("ro", 0o755)
+
+
+def test_an_mpeg_ts_input_gives_the_frames_of_a_one_piece_render(workdir):
+    """MPEG-TS has no index: FFmpeg seeks it by byte position and lands on the packet nearest
+    the segment's first frame, a keyframe or not; the decoder then dropped every frame up to
+    the next keyframe ("segment 1 gave 0 frames, expected 12": an internal error, and the
+    work folder left). Lossless encodes (--crf 0): the frames are compared exactly."""
+    make_clip(workdir / "in.ts", frames=48, gop=10)  # keyframes at 0, 10, 20...
+    ok(None, "video", "in.ts", "-o", "seg.mp4", "--segment", "0.5", "--crf", "0", "--quiet",
+       *ROTATE)  # fmt: skip
+    assert not Path("seg.mp4.parts").exists()
+    ok(None, "video", "in.ts", "-o", "one.mp4", "--segment", "100", "--crf", "0", "--quiet",
+       *ROTATE)  # fmt: skip
+    assert times("seg.mp4") == times("one.mp4")
+    got, whole = frames("seg.mp4"), frames("one.mp4")
+    assert len(got) == len(whole) == 48
+    for k, (a, b) in enumerate(zip(got, whole, strict=True)):
+        assert np.array_equal(a, b), k  # frame for frame

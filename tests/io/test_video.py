@@ -553,3 +553,30 @@ def test_a_segment_length_that_is_not_a_finite_positive_number_is_refused(tmp_pa
     with pytest.raises(InvalidValueError, match="--segment"):
         render_segmented(clip, tmp_path / "out.mp4", lambda t: (turn, {}), segment_seconds=seconds)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["in.mp4"]
+
+
+@pytest.mark.parametrize("suffix", [".ts", ".mp4"])
+def test_frames_from_a_frame_are_those_of_a_whole_decode(tmp_path, suffix):
+    """frames_from seeks to a keyframe before the frame and decodes from there; a seek that
+    lands after that keyframe (MPEG-TS, sought by byte position, lands on any packet) is
+    tried again further back, or the file is decoded from its start."""
+    from spherewarp.io.video import frames_from
+    from videoclip import make_clip
+
+    clip = make_clip(tmp_path / f"in{suffix}", frames=48, audio=False, gop=10)
+    with av.open(str(clip)) as c:
+        whole = [(f.pts, f.to_ndarray(format="yuv420p")) for f in c.decode(video=0)]
+    opened = []
+
+    def reopen():
+        opened.append(av.open(str(clip)))
+        return opened[-1]
+
+    for k in (12, 20, 36, 47):  # in a GOP, on a keyframe, one GOP later, the last frame
+        with av.open(str(clip)) as c:
+            got = [(f.pts, f.to_ndarray(format="yuv420p"))
+                   for f in frames_from(c, whole[k][0], True, reopen)]  # fmt: skip
+        assert [p for p, _ in got] == [p for p, _ in whole[k:]], k
+        assert all(np.array_equal(a, b) for (_, a), (_, b) in zip(got, whole[k:], strict=True)), k
+    for c in opened:
+        c.close()

@@ -27,7 +27,16 @@ import numpy as np
 
 from ..errors import InvalidValueError
 from .spherical import Spherical
-from .video import VideoInfo, _depth, _encoder, _open, _pick_pix_fmt, default_codec, probe
+from .video import (
+    VideoInfo,
+    _depth,
+    _encoder,
+    _open,
+    _pick_pix_fmt,
+    default_codec,
+    frames_from,
+    probe,
+)
 from .videowriter import EQUIRECT
 
 __all__ = ["ClipsJob", "check_clips", "render_clips", "render_clips_segment"]
@@ -113,22 +122,21 @@ class ClipsJob:
     timed: bool = False  # combine(frames, t): t the first clip's frame time in seconds
 
 
-def _from(frames: Iterator[Any], start: int) -> Iterator[Any]:
-    for f in frames:
-        if f.pts is not None and f.pts >= start:
-            yield f
-
-
-def _decoders(containers: list[Any], starts: list[int], seek: bool) -> list[Iterator[Any]]:
+def _decoders(
+    containers: list[Any], starts: list[int], seek: bool, paths: list[str] | None = None
+) -> list[Iterator[Any]]:
     """Each clip's frames from its frame at ``starts[k]`` on (``seek``: from the keyframe
-    before it, else from the clip's start)."""
+    before it, else from the clip's start; :func:`~spherewarp.io.video.frames_from`). A clip
+    decoded afresh after a seek that landed too late is opened again from ``paths`` (its
+    container added to ``containers``, for the caller to close)."""
     out = []
-    for c, start in zip(containers, starts, strict=True):
-        vin = c.streams.video[0]
-        vin.thread_type = "AUTO"
-        if seek:
-            c.seek(start, stream=vin, backward=True, any_frame=False)
-        out.append(_from(c.decode(vin), start))
+    for k, (c, start) in enumerate(zip(list(containers), starts, strict=True)):
+
+        def reopen(k: int = k) -> Any:
+            containers.append(_open(paths[k]))
+            return containers[-1]
+
+        out.append(frames_from(c, start, seek, reopen if paths is not None else None))
     return out
 
 
@@ -152,7 +160,7 @@ def render_clips_segment(
     containers = [_open(p) for p in job.inputs]
     done = 0
     try:
-        decoders = _decoders(containers, job.starts, job.index > 0)
+        decoders = _decoders(containers, job.starts, job.index > 0, job.inputs)
         with writing_part(job.part) as tmp:
             with video_writer(
                 tmp, job.size, job.rate, time_base=job.time_base, in_pix=job.in_pix,

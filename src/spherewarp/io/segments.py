@@ -71,6 +71,7 @@ from .video import (
     add_video_stream,
     copy_streams,
     encode,
+    frames_from,
     muxer,
     output_spherical,
     pipeline,
@@ -289,6 +290,12 @@ def _render_segment(
     done = 0
     with writing_part(job.part) as tmp:
         src = _open(job.input)
+        opened = [src]
+
+        def reopen() -> Any:
+            opened.append(_open(job.input))
+            return opened[-1]
+
         try:
             vin = src.streams.video[0]
             vin.thread_type = "AUTO"
@@ -298,13 +305,10 @@ def _render_segment(
                     dst, s.codec, rate, s.options, s.size, s.out_pix, vin.time_base,
                     s.color_range,
                 )  # fmt: skip
-                if job.index > 0:
-                    src.seek(job.start_pts, stream=vin, backward=True, any_frame=False)
 
                 def frames() -> Iterator[Any]:
-                    for item in src.decode(vin):
-                        if item.pts is None or item.pts < job.start_pts:
-                            continue
+                    # from the keyframe before the segment (robust to a seek landing after it)
+                    for item in frames_from(src, job.start_pts, job.index > 0, reopen):
                         if job.end_pts is not None and item.pts >= job.end_pts:
                             break
                         yield item
@@ -330,7 +334,8 @@ def _render_segment(
                     lambda: dst.mux(encode(vout, None)),
                 )  # fmt: skip
         finally:
-            src.close()
+            for c in opened:
+                c.close()
         if done != job.frames:
             raise RuntimeError(
                 f"segment {job.index} of '{job.input}' gave {done} frames, expected {job.frames}"

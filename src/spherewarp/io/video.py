@@ -46,6 +46,7 @@ from .stereo import FramePlan, eye_shape, is_panorama, parse_stereo, resolve_gri
 
 __all__ = [
     "VideoInfo",
+    "frames_from",
     "pipeline",
     "probe",
     "render_video",
@@ -600,6 +601,92 @@ def pipeline(
     if stop.is_set():
         raise RuntimeError("the video pipeline stopped early")
     return n
+
+
+#: how far before a segment's first frame (seconds) a seek that landed after it is tried again,
+#: in turn, before the file is decoded from its start
+SEEK_BACK_S = (1.0, 4.0, 16.0, 64.0)
+
+
+class _Overshot(Exception):
+    """A seek landed after the frame wanted: its first keyframe, or the first frame decoded
+    from it, comes later."""
+
+
+def frames_from(
+    container: Any, start: int, seek: bool = True, reopen: Callable[[], Any] | None = None
+) -> Iterator[Any]:
+    """The decoded frames of ``container``'s first video stream from presentation time ``start``
+    on (in the stream's time base), each as decoding the whole file gives it.
+
+    ``seek``: seek to a keyframe at or before ``start`` rather than decode from the file's
+    start. A seek may land after that keyframe: MPEG-TS has no index, so FFmpeg seeks it by
+    byte position, and lands on the packet nearest ``start``, a keyframe or not (the decoder
+    then drops every frame up to the next keyframe, past the segment). So the packets before
+    the first keyframe are dropped, and when that keyframe, or the first frame decoded from
+    it, comes after ``start``, the seek is tried again further back (:data:`SEEK_BACK_S`),
+    and at last the file is decoded from its start: ``reopen()`` (a fresh container of the
+    file, which the caller closes), else ``container`` sought to its start.
+    """
+    import av
+
+    vin = container.streams.video[0]
+    vin.thread_type = "AUTO"
+    if seek:
+        first = vin.start_time
+        targets = [start] + [start - round(Fraction(s) / vin.time_base) for s in SEEK_BACK_S]
+        for target in targets:
+            if target != start and first is not None and target <= first:
+                break  # before the file's start: decode it from there
+            try:
+                container.seek(target, stream=vin, backward=True, any_frame=False)
+            except av.error.FFmpegError:
+                continue
+            frames = _from_keyframe(container, vin, start)
+            try:
+                head = next(frames)
+            except (_Overshot, StopIteration):
+                continue
+            yield head
+            yield from frames
+            return
+        if reopen is not None:
+            container = reopen()
+            vin = container.streams.video[0]
+            vin.thread_type = "AUTO"
+        else:
+            container.seek(0, backward=True, any_frame=False)  # the file's start, in AV_TIME_BASE
+    for frame in container.decode(vin):
+        if frame.pts is not None and frame.pts >= start:
+            yield frame
+
+
+def _from_keyframe(container: Any, vin: Any, start: int) -> Iterator[Any]:
+    """After a seek: the frames from ``start`` on, decoded from the first keyframe packet
+    (those before it are dropped); :class:`_Overshot`, before any frame, when that keyframe or
+    the first frame decoded comes after ``start`` (or no keyframe comes)."""
+    keyed = checked = False
+    for packet in container.demux(vin):
+        if not keyed:
+            if not packet.size:  # the end, and no keyframe
+                raise _Overshot
+            if not packet.is_keyframe:
+                continue
+            when = packet.pts if packet.pts is not None else packet.dts
+            if when is not None and when > start:
+                raise _Overshot
+            keyed = True
+        for frame in packet.decode():
+            if frame.pts is None:
+                continue
+            if not checked:
+                if frame.pts > start:
+                    raise _Overshot
+                checked = True
+            if frame.pts >= start:
+                yield frame
+    if not keyed:
+        raise _Overshot
 
 
 def _check_output(output: Path | str, hint: str = "") -> None:
