@@ -44,11 +44,15 @@ def make_clip(
     stereo: str | None = None,
     audio_codec: str = "aac",
     gop: int | None = None,
+    rate: Fraction | int = RATE,
+    times: list[Fraction] | None = None,
 ) -> Path:
     """Write the clip (H.264 at CRF 10, AAC mono at 48 kHz) to ``path``; return ``path`` (its
     extension picks the container: ``.ts`` MPEG-TS...).
 
-    ``gop``: a keyframe every ``gop`` frames (default: x264's, 250).
+    ``gop``: a keyframe every ``gop`` frames (default: x264's, 250). ``rate``: frames a
+    second (``Fraction(30000, 1001)``: NTSC's; the time base is its inverse). ``times``: each
+    frame's time in seconds (a variable frame rate; time base 1/1000; no audio).
 
     ``audio_codec``: the tone's encoder instead of AAC (``libmp3lame``, ``adpcm_ima_qt``...;
     PyAV converts the samples to its format). The container follows ``path``'s extension.
@@ -62,8 +66,11 @@ def make_clip(
     w, h = size if stereo is None else (base.shape[1], base.shape[0])
     with av.open(str(path), "w") as c:
         options = {"crf": "10"} if gop is None else {"crf": "10", "g": str(gop)}
-        v = c.add_stream("libx264", rate=RATE, options=options)
+        v = c.add_stream("libx264", rate=rate, options=options)
         v.width, v.height, v.pix_fmt = w, h, pix_fmt
+        tb = Fraction(1, 1000) if times is not None else 1 / Fraction(rate)
+        v.time_base = v.codec_context.time_base = tb
+        audio = audio and times is None
         a = None
         if audio:
             a = c.add_stream(audio_codec, rate=48000)
@@ -75,10 +82,12 @@ def make_clip(
             if (w, h) != (W, H):
                 img = np.ascontiguousarray(np.resize(img, (h, w, 3)))
             f = av.VideoFrame.from_ndarray(np.ascontiguousarray(img), format="rgb24")
+            f.pts = k if times is None else round(times[k] / tb)
+            f.time_base = tb
             c.mux(v.encode(f))
         c.mux(v.encode(None))
         if a is not None:
-            n = 48000 * frames // RATE
+            n = int(48000 * frames // Fraction(rate))
             t = np.arange(n) / 48000
             tone = (0.3 * np.sin(2 * np.pi * 440 * t)).astype(np.float32)[None, :]
             for i in range(0, n, 1024):

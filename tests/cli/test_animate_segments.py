@@ -82,3 +82,17 @@ def test_a_segment_length_that_is_not_finite_is_refused(spin, value):
     err = fails(None, "animate", *spin, "-o", "n.mp4", "--segment", value, "-q")
     assert "'--segment'" in err and "finite" in err and value in err, err
     assert not Path("n.mp4").exists() and not Path("n.mp4.parts").exists()
+
+
+def test_animate_at_an_ntsc_rate_keeps_frame_k_at_k_over_fps(workdir):
+    """At 29.97 fps a segment of 0.2 s (6 frames) starts at 0.2002 s, no whole millisecond: the
+    part's MP4 file holds its start in milliseconds, and the join copied the rounded times."""
+    from fractions import Fraction
+
+    write_image(workdir / "pano.png", panorama())
+    (workdir / "spin.json").write_text(json.dumps({"spherewarp": 1, **SPIN, "duration": 0.4}))
+    ok(None, "animate", "spin.json", "pano.png", "--fps", "29.97", "-o", "n.mp4",
+       "--segment", "0.2", "-q")  # fmt: skip
+    with av.open("n.mp4") as c:
+        got = sorted(Fraction(p.pts) * p.time_base for p in c.demux(c.streams.video[0]) if p.size)
+    assert got == [Fraction(1001 * k, 30000) for k in range(12)]

@@ -10,6 +10,7 @@ import signal
 import subprocess
 import sys
 import time
+from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
@@ -282,8 +283,41 @@ def test_an_mpeg_ts_input_gives_the_frames_of_a_one_piece_render(workdir):
     assert not Path("seg.mp4.parts").exists()
     ok(None, "video", "in.ts", "-o", "one.mp4", "--segment", "100", "--crf", "0", "--quiet",
        *ROTATE)  # fmt: skip
-    assert times("seg.mp4") == times("one.mp4")
+    assert exact_times("seg.mp4") == exact_times("one.mp4") == exact_times("in.ts")
     got, whole = frames("seg.mp4"), frames("one.mp4")
     assert len(got) == len(whole) == 48
     for k, (a, b) in enumerate(zip(got, whole, strict=True)):
         assert np.array_equal(a, b), k  # frame for frame
+
+
+def exact_times(path):
+    """The video frames' presentation times in seconds, exactly (Fractions), sorted."""
+    with av.open(str(path)) as c:
+        return sorted(Fraction(p.pts) * p.time_base for p in c.demux(c.streams.video[0]) if p.size)
+
+
+def test_a_boundary_at_no_whole_millisecond_keeps_every_frame_time(workdir):
+    """Frame 6 of a 30000/1001 fps clip is at 0.2002 s: a part's MP4 file holds its start (its
+    edit list) in milliseconds, and the join copied the rounded times (0.2 s, and all of the
+    part's frames 0.2 ms early); the output's own edit list rounded a start as well."""
+    make_clip(workdir / "ntsc.mp4", frames=12, rate=Fraction(30000, 1001))
+    ok(None, "video", "ntsc.mp4", "-o", "out.mp4", "--segment", "0.2", "--quiet", *ROTATE)
+    assert exact_times("out.mp4") == exact_times("ntsc.mp4")  # 0.2002 s, not 0.2
+    assert packets("out.mp4", "audio") == packets("ntsc.mp4", "audio")
+    make_clip(workdir / "late.ts", frames=12, gop=4)  # MPEG-TS: the first frame at 1/12 s
+    ok(None, "video", "late.ts", "-o", "late.mp4", "--segment", "0.2", "--quiet", *ROTATE)
+    assert exact_times("late.mp4") == exact_times("late.ts")
+
+
+def test_a_variable_frame_rate_with_a_gap_is_joined_with_its_times(workdir):
+    """After a gap, a part's first decode time (its first frame's time less the encoder's
+    B-frame delay) came before the previous part's last: the MP4 muxer refused the join
+    (an internal 'Invalid argument'). The decode times are made anew across the parts."""
+    times = [Fraction(k, 12) + (Fraction(3, 10) if k > 10 else 0) for k in range(24)]
+    make_clip(workdir / "vfr.mp4", frames=24, times=times)
+    ok(None, "video", "vfr.mp4", "-o", "out.mp4", "--segment", "0.5", "--quiet", *ROTATE)
+    assert exact_times("out.mp4") == exact_times("vfr.mp4")  # times to the millisecond
+    assert len(times) == 24 and exact_times("vfr.mp4")[11] - exact_times("vfr.mp4")[10] > 0.3
+    got = packets("out.mp4", "video")
+    assert all(a[1] < b[1] for a, b in zip(got, got[1:], strict=False))  # rising dts
+    assert all(dts <= pts for pts, dts, _ in got)

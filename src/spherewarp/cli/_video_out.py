@@ -326,7 +326,7 @@ def animate_video(
     panorama = render.projection in (None, "equirect")
 
     def join_parts(parts: list[Path], tmp: Path) -> None:
-        join(parts, None, tmp, muxer(named))
+        join(parts, None, tmp, muxer(named), times=list(range(len(times))), time_base=1 / rate)
         write_spherical(tmp, EQUIRECT if panorama else None)
 
     pixels = {k: v for k, v in asdict(quiet).items() if k not in ("output", "overwrite")}

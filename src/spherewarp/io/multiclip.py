@@ -309,7 +309,7 @@ def render_clips(
     end = None if differ is None else float(n / rate)
 
     def join_parts(parts: list[Path], tmp: Path) -> None:
-        join(parts, Path(paths[0]), tmp, muxer(output), end=end)
+        join(parts, Path(paths[0]), tmp, muxer(output), end=end, times=lead_pts[:n], time_base=tb)
         write_spherical(tmp, spherical)
 
     full = json.dumps(

@@ -87,6 +87,7 @@ __all__ = [
     "frame_times",
     "join",
     "local_name",
+    "mux_options",
     "parts_dir",
     "plan_segments",
     "refuse_existing",
@@ -824,7 +825,7 @@ def render_segmented(
         )  # fmt: skip
 
     def join_parts(parts: list[Path], tmp: Path) -> None:
-        join(parts, input, tmp, muxer(target))
+        join(parts, input, tmp, muxer(target), times=pts, time_base=tb)  # the input's times
         write_spherical(tmp, output_spherical(s.info, s.layout, s.grid, spherical))
 
     def after(elsewhere: bool) -> None:
@@ -1016,10 +1017,71 @@ def _packets(container: Any, streams: list[Any]) -> Iterator[Any]:
             yield packet
 
 
-def _video_packets(parts: list[Any]) -> Iterator[Any]:
+def _video_packets(parts: list[Any]) -> Iterator[tuple[int, Any]]:
+    """``(part index, packet)`` for the video packets of the parts, in order."""
+    for i, part in enumerate(parts):
+        with _open(part) as c:
+            for packet in _packets(c, [c.streams.video[0]]):
+                if packet.size:
+                    yield i, packet
+
+
+def _retime(
+    parts: list[Any], times: list[int] | None, time_base: Fraction
+) -> tuple[list[list[int]], list[int], list[int]]:
+    """The times to give the parts' video packets: ``(ranks, pts, dts)``.
+
+    ``ranks[i][j]``: where the ``j``-th packet of part ``i`` (in decode order) comes in the
+    part's presentation order; the ``k``-th frame of the output (in presentation order) is
+    at ``pts[k]`` (``times``, or the parts' own times when None); the ``g``-th packet of the
+    output (in decode order) has the decode time ``dts[g]``.
+
+    The decode times are made anew for the whole output: each part's encoder made its own
+    from its own frames, so a part whose frames follow a gap (a variable frame rate) began
+    with a decode time (its first frame's time less its B-frame delay) before the previous
+    part's last, which MP4 refuses. ``dts[g] = pts[g - D]`` (``D`` the largest reordering
+    in any part; the first ``D`` a frame interval apart before ``pts[0]``) rises strictly
+    with ``g`` and is never after the packet's presentation time.
+    """
+    ranks: list[list[int]] = []
+    own: list[int] = []
     for part in parts:
         with _open(part) as c:
-            yield from _packets(c, [c.streams.video[0]])
+            packets = [(p.pts, p.time_base) for p in _packets(c, [c.streams.video[0]]) if p.size]
+        if any(t is None for t, _ in packets):
+            raise RuntimeError(f"the segment '{part}' has a video packet without a time")
+        found = [t * base for t, base in packets]
+        order = sorted(range(len(found)), key=lambda j: (found[j], j))
+        rank = [0] * len(found)
+        for r, j in enumerate(order):
+            rank[j] = r
+        ranks.append(rank)
+        own += [round(found[j] / time_base) for j in order]
+    pts = own if times is None else list(times)
+    if len(own) != len(pts):
+        raise RuntimeError(f"the segments hold {len(own)} frames, expected {len(pts)}")
+    if any(b <= a for a, b in zip(pts, pts[1:], strict=False)):
+        raise RuntimeError("the frames' times do not rise")
+    delay = max((j - r for rank in ranks for j, r in enumerate(rank)), default=0)
+    step = pts[1] - pts[0] if len(pts) > 1 else 1
+    dts = [pts[0] - (delay - g) * step for g in range(min(delay, len(pts)))]
+    dts += pts[: len(pts) - len(dts)]
+    return ranks, pts, dts
+
+
+def mux_options(format: str, time_base: Fraction) -> dict[str, str]:
+    """The muxer options that keep the times of a video stream in ``time_base`` exactly: an
+    MP4/MOV file's movie time scale (1000 by default, in which its edit lists hold a start
+    that is not 0: a frame at 1/12 s came back at 0.083 s) is the time base's denominator.
+
+    Examples
+    --------
+    >>> mux_options("mp4", Fraction(1001, 30000)), mux_options("matroska", Fraction(1, 1000))
+    ({'movie_timescale': '30000'}, {})
+    """
+    if format not in ("mp4", "mov") or not 0 < time_base.denominator < 2**31:
+        return {}
+    return {"movie_timescale": str(time_base.denominator)}
 
 
 def _when(packet: Any) -> Fraction:
@@ -1028,11 +1090,26 @@ def _when(packet: Any) -> Fraction:
 
 
 def join(
-    parts: list[Path], input: Path | None, output: Path, format: str, end: float | None = None
+    parts: list[Path],
+    input: Path | None,
+    output: Path,
+    format: str,
+    end: float | None = None,
+    *,
+    times: list[int] | None = None,
+    time_base: Fraction | None = None,
 ) -> None:
     """Join the segment files ``parts`` (in order) into ``output`` without re-encoding, with
     the copyable streams of ``input`` (its audio; None: no input) muxed back, packets as
-    they are (up to ``end`` seconds when given: the rest is left out)."""
+    they are (up to ``end`` seconds when given: the rest is left out).
+
+    ``times`` (in ``time_base``, default the input's video time base, else the first part's):
+    the presentation times of the output's frames, in order; the parts' video packets, part
+    after part and each part's in presentation order, are given these exactly. (A part's MP4
+    file holds its start in its edit list in milliseconds: a part starting at 0.5005 s came
+    back at 0.5 s.) The decode times are made anew so that they rise across the parts
+    (:func:`_retime`); the packets' data are untouched.
+    """
     import heapq
 
     import av
@@ -1040,20 +1117,28 @@ def join(
     with _open(parts[0]) as first, contextlib.ExitStack() as stack:
         src = None if input is None else stack.enter_context(_open(input))
         template = first.streams.video[0]
-        with av.open(str(output), "w", format=format) as dst:
+        vin = None if src is None else src.streams.video[0]
+        tb = time_base or (template.time_base if vin is None else vin.time_base)
+        ranks, pts, dts = _retime(parts, times, tb)
+        offsets = [0]
+        for rank in ranks:
+            offsets.append(offsets[-1] + len(rank))
+        with av.open(str(output), "w", format=format, options=mux_options(format, tb)) as dst:
             vout = dst.add_stream_from_template(template)
-            copies: dict[int, Any] = {}
-            if src is None:
-                vout.time_base = template.time_base
-            else:
-                vin = src.streams.video[0]
-                vout.time_base = vin.time_base
-                copies = copy_streams(src, dst, vin)
+            vout.time_base = tb
+            copies = {} if src is None else copy_streams(src, dst, vin)
             others = [] if src is None else [s for s in src.streams if s.index in copies]
 
             def video() -> Iterator[tuple[Fraction, int, int, Any]]:
-                for k, p in enumerate(_video_packets(parts)):
-                    yield _when(p), 0, k, p
+                for g, (i, p) in enumerate(_video_packets(parts)):
+                    k = offsets[i] + ranks[i][g - offsets[i]]  # its frame, in the output
+                    if k + 1 < len(pts):
+                        duration = pts[k + 1] - pts[k]
+                    else:  # the last frame: as long as its part says
+                        duration = round((p.duration or 0) * p.time_base / tb) or None
+                    p.pts, p.dts, p.time_base = pts[k], dts[g], tb
+                    p.duration = duration
+                    yield dts[g] * tb, 0, g, p
 
             def rest() -> Iterator[tuple[Fraction, int, int, Any]]:
                 if others:
