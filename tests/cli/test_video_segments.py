@@ -321,3 +321,21 @@ def test_a_variable_frame_rate_with_a_gap_is_joined_with_its_times(workdir):
     got = packets("out.mp4", "video")
     assert all(a[1] < b[1] for a, b in zip(got, got[1:], strict=False))  # rising dts
     assert all(dts <= pts for pts, dts, _ in got)
+
+
+def test_frames_at_one_time_are_refused_in_one_line(workdir):
+    """Two frames at one time (a Matroska file keeps milliseconds: frames 0.1 ms apart): x264's
+    decode times stopped rising and the part's muxer failed ('Invalid argument', an internal
+    error). Refused before any work, naming the input."""
+    import shutil
+
+    ffmpeg = shutil.which("ffmpeg")
+    if ffmpeg is None:
+        pytest.skip("no ffmpeg")
+    apart = "setpts='N/12/TB+eq(N,5)*(-1/12+0.0001)/TB'"  # frame 5 0.1 ms after frame 4
+    subprocess.run([ffmpeg, "-v", "error", "-f", "lavfi", "-i", "testsrc=size=128x64:rate=12",
+                    "-t", "1", "-vf", apart, "-fps_mode", "passthrough", "-bf", "0",
+                    "-pix_fmt", "yuv420p", "-c:v", "libx264", "dup.mkv"], check=True)  # fmt: skip
+    err = fails(None, "video", "dup.mkv", "-o", "out.mp4", "--segment", SEG, *ROTATE)
+    assert "'dup.mkv' has two frames at one time" in err and "frames 4 and 5" in err, err
+    assert not Path("out.mp4").exists() and not Path("out.mp4.parts").exists()

@@ -253,6 +253,7 @@ def render_clips(
     from .segments import (
         Segmented,
         _input_identity,
+        check_times,
         frame_times,
         join,
         plan_segments,
@@ -295,6 +296,7 @@ def render_clips(
     )  # fmt: skip
     encoding = {"codec": enc.name, "crf": crf, "preset": preset, "pix_fmt": out_pix}
     lead_pts = times[0][0]
+    check_times(lead_pts[:n], tb, inputs[0])
     step = segment_frames(segment_seconds, float(rate))
     ranges = plan_segments(lead_pts[:n], step)
 

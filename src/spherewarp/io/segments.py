@@ -82,6 +82,7 @@ __all__ = [
     "DEFAULT_SEGMENT_SECONDS",
     "ManifestMismatch",
     "SegmentJob",
+    "check_times",
     "check_workers",
     "dask_client",
     "frame_times",
@@ -170,6 +171,29 @@ def segment_frames(seconds: float | None, rate: float) -> int:
             f"--segment {seconds!r}: expected a finite number of seconds above 0 (e.g. 10)"
         )
     return max(1, min(2**62, round(seconds * float(rate))))
+
+
+def check_times(pts: list[int], time_base: Fraction, input: Any) -> None:
+    """Refuse frames of ``input`` that share a presentation time (``pts``: sorted, in
+    ``time_base``): every frame keeps its time, and no encoder or container takes two frames
+    at one time (x264's decode times stopped rising: an internal 'Invalid argument').
+
+    Examples
+    --------
+    >>> check_times([0, 1, 2], Fraction(1, 24), "in.mp4")
+    >>> check_times([0, 1, 1, 2], Fraction(1, 24), "in.mp4")
+    Traceback (most recent call last):
+    ...
+    spherewarp.errors.InvalidValueError: 'in.mp4' has two frames at one time (0.0416667 s, \
+frames 1 and 2); re-time it first (e.g. ffmpeg -i IN -fps_mode cfr OUT.mp4)
+    """
+    for k in range(1, len(pts)):
+        if pts[k] == pts[k - 1]:
+            raise InvalidValueError(
+                f"'{input}' has two frames at one time ({float(pts[k] * time_base):g} s, "
+                f"frames {k - 1} and {k}); re-time it first (e.g. ffmpeg -i IN -fps_mode cfr "
+                "OUT.mp4)"
+            )
 
 
 def plan_segments(pts: list[int], frames_per_segment: int) -> list[tuple[int, int]]:
@@ -807,6 +831,7 @@ def render_segmented(
     pts, tb = frame_times(input)
     if not pts:
         raise InvalidValueError(f"'{input}' has no video frames")
+    check_times(pts, tb, input)
     rate = float(s.info.rate or 24)
     ranges = plan_segments(pts, segment_frames(segment_seconds, rate))
     full = (
