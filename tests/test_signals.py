@@ -17,3 +17,14 @@ def test_held_delivers_an_interrupt_after_the_block():
             signal.raise_signal(signal.SIGINT)
             done.append("the block ran to its end")
     assert done and signal.getsignal(signal.SIGINT) is handler
+
+
+def test_exit_status_of_each_stop():
+    import signal
+
+    from spherewarp._signals import Terminated, exit_status
+
+    assert exit_status(KeyboardInterrupt()) == (130, "interrupted")
+    assert exit_status(Terminated()) == (143, "terminated")
+    if hasattr(signal, "SIGHUP"):  # the terminal closed: unwound as SIGTERM is
+        assert exit_status(Terminated(signal.SIGHUP)) == (129, "hung up")

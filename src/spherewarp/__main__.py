@@ -1,6 +1,6 @@
 """``python -m spherewarp`` and the ``spherewarp`` console script.
 
-SIGINT and SIGTERM are handled from the first line on (before the command line
+SIGINT, SIGTERM and SIGHUP are handled from the first line on (before the command line
 is imported), so an interrupt during start-up prints one line, not a traceback.
 """
 
@@ -30,7 +30,7 @@ def main() -> None:
     try:
         cli_run()  # ends the process with os._exit (see spherewarp.cli.run)
     except SystemExit as exc:
-        if exc.code not in (130, 143):
+        if exc.code not in (129, 130, 143):
             raise
         # Interrupted (the files are cleaned up): exit now with that status. A normal exit
         # would wait for the render threads, and Python turns 130 into death by SIGINT when

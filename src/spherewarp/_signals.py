@@ -1,8 +1,9 @@
-"""SIGINT and SIGTERM for the command line: unwind, clean up, never lose a request.
+"""SIGINT, SIGTERM and SIGHUP for the command line: unwind, clean up, never lose a request.
 
 Standard library only, so the command line can install it before anything
 heavy is imported. :func:`install` turns SIGINT into :class:`KeyboardInterrupt`
-and SIGTERM into :class:`Terminated` (both unwind the stack, so every
+and SIGTERM and SIGHUP (the terminal closed, an ssh session lost; where the platform has
+it) into :class:`Terminated` (all unwind the stack, so every
 ``finally`` and the atomic writer's clean-up run) and records the request:
 a library that swallows the exception (a bare ``except:`` round an optional
 import) cannot make it go away, since :func:`check` raises it again, and the
@@ -37,12 +38,24 @@ _ARMED = [False]
 
 
 class Terminated(BaseException):
-    """SIGTERM arrived: like KeyboardInterrupt, not an :class:`Exception` (nothing catches it
-    by accident)."""
+    """SIGTERM (or SIGHUP: ``signum``) arrived: like KeyboardInterrupt, not an
+    :class:`Exception` (nothing catches it by accident)."""
+
+    def __init__(self, signum: int = signal.SIGTERM) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+#: SIGHUP where the platform has it (not on Windows)
+_SIGHUP: tuple[int, ...] = (signal.SIGHUP,) if hasattr(signal, "SIGHUP") else ()
+#: the signals that stop the command line, each unwinding it as an exception
+_STOPS = (signal.SIGINT, signal.SIGTERM, *_SIGHUP)
+#: the exit status and word of each (the shell's 128 + the signal's number)
+_STATUS = {signal.SIGTERM: (143, "terminated"), **{s: (129, "hung up") for s in _SIGHUP}}
 
 
 def _exception(signum: int) -> BaseException:
-    return KeyboardInterrupt() if signum == signal.SIGINT else Terminated()
+    return KeyboardInterrupt() if signum == signal.SIGINT else Terminated(signum)
 
 
 #: top-level packages whose Python code runs as callbacks from C (llvmlite's object cache,
@@ -75,12 +88,13 @@ def _retry(signum: int, frame: Any) -> None:
 
 
 def install() -> dict[int, Any]:
-    """Handle SIGINT and SIGTERM as above; return the handlers it replaced (for :func:`restore`).
+    """Handle SIGINT, SIGTERM and SIGHUP as above; return the handlers it replaced (for
+    :func:`restore`).
 
     Does nothing outside the main thread (where handlers cannot be set).
     """
     previous: dict[int, Any] = {}
-    handlers = {signal.SIGINT: _handler, signal.SIGTERM: _handler}
+    handlers: dict[int, Any] = {signum: _handler for signum in _STOPS}
     if hasattr(signal, "SIGALRM"):
         handlers[signal.SIGALRM] = _retry
     for signum, handler in handlers.items():
@@ -124,16 +138,16 @@ def check() -> None:
 
 
 def exit_status(exc: BaseException) -> tuple[int, str]:
-    """The exit status and word for an interrupt: (130, "interrupted") or (143, "terminated")."""
-    if isinstance(exc, Terminated) or requested() == signal.SIGTERM:
-        return 143, "terminated"
-    return 130, "interrupted"
+    """The exit status and word for an interrupt: (130, "interrupted"), (143, "terminated")
+    or, for SIGHUP, (129, "hung up")."""
+    signum = exc.signum if isinstance(exc, Terminated) else requested()
+    return _STATUS.get(signum, (130, "interrupted"))  # type: ignore[arg-type]
 
 
 def ignore() -> None:
-    """Ignore SIGINT and SIGTERM from now on (the process is about to exit)."""
+    """Ignore SIGINT, SIGTERM and SIGHUP from now on (the process is about to exit)."""
     _cancel_retry()
-    for signum in (signal.SIGINT, signal.SIGTERM):
+    for signum in _STOPS:
         try:
             signal.signal(signum, signal.SIG_IGN)
         except (ValueError, OSError):
@@ -141,12 +155,14 @@ def ignore() -> None:
 
 
 #: the signals whose Python handlers :func:`held` sets aside
-_HELD = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGALRM") if hasattr(signal, n))
+_HELD = tuple(
+    getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP", "SIGALRM") if hasattr(signal, n)
+)
 
 
 @contextlib.contextmanager
 def held() -> Iterator[None]:
-    """Hold SIGINT and SIGTERM (and this module's SIGALRM retry) back for the block, then
+    """Hold SIGINT, SIGTERM and SIGHUP (and this module's SIGALRM retry) back for the block, then
     deliver them to the handlers in place.
 
     For lines an interrupt must not cut in two: starting and joining the video pipeline's

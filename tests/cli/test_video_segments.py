@@ -339,3 +339,26 @@ def test_frames_at_one_time_are_refused_in_one_line(workdir):
     err = fails(None, "video", "dup.mkv", "-o", "out.mp4", "--segment", SEG, *ROTATE)
     assert "'dup.mkv' has two frames at one time" in err and "frames 4 and 5" in err, err
     assert not Path("out.mp4").exists() and not Path("out.mp4.parts").exists()
+
+
+@pytest.mark.skipif(not hasattr(signal, "SIGHUP"), reason="no SIGHUP on this platform")
+@pytest.mark.parametrize("jobs", ["1", "2"])
+def test_a_hang_up_is_handled_as_a_termination_and_resume_works(clip, jobs):
+    """SIGHUP (the terminal closed, an ssh session lost) killed the process at once: exit 129
+    with no message and a hidden .seg-...tmp.mp4 left in OUT.parts/. It unwinds as SIGTERM
+    does: one line, exit 129, no output and no temporary file; --resume then gives the file
+    of an uninterrupted render."""
+    args = ("video", clip.name, "--segment", SEG, "--jobs", jobs, "--quiet")
+    ok(None, *args, *ROTATE, "-o", "whole.mp4")
+    p = start(*args, *ROTATE, "-o", "cut.mp4")
+    wait_for_segments(Path("cut.mp4.parts"), 1, p)
+    p.send_signal(signal.SIGHUP)
+    _, err = p.communicate(timeout=60)
+    assert p.returncode == 129, (p.returncode, err)
+    assert err.startswith("spherewarp: hung up") and err.count("\n") == 1, err
+    assert "--resume" in err and "Traceback" not in err
+    assert not Path("cut.mp4").exists()
+    assert [f.name for f in Path("cut.mp4.parts").iterdir() if ".tmp" in f.name] == []
+    assert not [f for f in os.listdir() if ".spherewarp-" in f]
+    ok(None, *args, "--resume", *ROTATE, "-o", "cut.mp4")
+    assert digest("cut.mp4") == digest("whole.mp4")

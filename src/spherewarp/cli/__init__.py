@@ -8,8 +8,8 @@ fast.
 Any :class:`~spherewarp.errors.SpherewarpError`, unreadable file or bad
 option becomes one line on stderr (``spherewarp: error: ...``) and exit
 status 2 (1 for an unexpected internal error, 130 when interrupted by SIGINT,
-143 by SIGTERM, leaving no partial output and no temporary file); a traceback
-is a bug.
+143 by SIGTERM, 129 by SIGHUP, leaving no partial output and no temporary file); a
+traceback is a bug.
 """
 
 from __future__ import annotations
@@ -147,8 +147,8 @@ def error_line(exc: BaseException, prog: str = "spherewarp") -> tuple[str, int] 
 def main(argv: list[str] | None = None) -> Any:
     """Run the command line; never lets a traceback reach the user for bad input.
 
-    SIGINT and SIGTERM unwind the command (removing any temporary file) and
-    exit with status 130 and 143.
+    SIGINT, SIGTERM and SIGHUP unwind the command (removing any temporary file) and
+    exit with status 130, 143 and 129.
     """
     previous = _signals.install()
     saved = warnings.showwarning
@@ -169,7 +169,10 @@ def _stop(exc: BaseException, prog: str) -> None:
     segments = sys.modules.get("spherewarp.io.segments")
     hint = getattr(segments, "resume_hint", None)
     more = f"; {hint}" if hint else ""
-    click.echo(f"{prog}: {word} (no partially written file is left{more})", err=True)
+    try:
+        click.echo(f"{prog}: {word} (no partially written file is left{more})", err=True)
+    except (OSError, ValueError):  # a hang-up: the terminal is gone
+        pass
     sys.exit(code)
 
 

@@ -476,6 +476,21 @@ class _Folder:
         with contextlib.suppress(OSError):
             self.where.rmdir()
 
+    def remove_dead_temporaries(self) -> None:
+        """Remove the temporary files here of processes that no longer run (a local folder's):
+        what the pool processes were writing when they were stopped (terminated, they leave
+        their temporary files behind)."""
+        from .atomic import _alive
+
+        if self.url or os.name != "posix":
+            return
+        with contextlib.suppress(OSError):
+            for name in os.listdir(self.where):
+                pids = [int(p) for p in re.findall(r"\.spherewarp-(\d+)-[0-9a-f]{8}\.tmp", name)]
+                if pids and _OURS.fullmatch(name) and not any(_alive(p) for p in pids):
+                    with contextlib.suppress(OSError):
+                        (self.where / name).unlink()
+
     def check_ours(self, output: Path | str) -> None:
         """Refuse a work folder that spherewarp did not make: a file, or a folder holding
         anything but a spherewarp manifest and the files spherewarp writes beside it
@@ -599,11 +614,14 @@ def _open_manifest(
 
 
 def _worker_init() -> None:
-    """A pool process ignores SIGINT: the client stops it (a Ctrl-C reaches the whole
-    process group, and a traceback from each process would break the one-line rule)."""
+    """A pool process ignores SIGINT and SIGHUP: the client stops it (a Ctrl-C, or a closed
+    terminal's hang-up, reaches the whole process group, and a traceback from each process
+    would break the one-line rule)."""
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if hasattr(signal, "SIGHUP"):
+        signal.signal(signal.SIGHUP, signal.SIG_IGN)
 
 
 #: ``render(job, progress) -> (index, frames, bytes)``: renders one segment (module level, so
@@ -968,7 +986,11 @@ def run_segments(
         if client is not None:
             _run_dask(todo, client, finished, plan.render)
         else:
-            _run_local(todo, jobs, finished, counter.frame, plan.render)
+            try:
+                _run_local(todo, jobs, finished, counter.frame, plan.render)
+            except BaseException:
+                work.remove_dead_temporaries()  # of the pool's processes, stopped mid-segment
+                raise
         if plan.after is not None:
             plan.after(client is not None or jobs > 1)
         parts = [work.file(manifest.part(i)) for i in range(len(ranges))]
