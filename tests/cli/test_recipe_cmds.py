@@ -99,7 +99,7 @@ def test_a_recipe_in_a_missing_folder_is_refused_before_any_work(tmp_path, pano)
     assert f"directory '{tmp_path / 'no'}' does not exist" in err
     (tmp_path / "no").write_text("a file")
     err = fails(None, "rotate", a, "--yaw", "3", "--save-recipe", r, "-o", tmp_path / "x.png")
-    assert err.endswith("Not a directory\n")
+    assert err.endswith(f"'{tmp_path / 'no'}' is not a directory\n")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.png", "b.png", "no"]
 
 
