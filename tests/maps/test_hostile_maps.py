@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import json
+import re
 import sys
 
 import pytest
 
 from spherewarp.errors import InvalidValueError
-from spherewarp.maps import Lattes, Mobius, map_from_json
+from spherewarp.maps import ExpMap, Lattes, Mobius, Power, map_from_json
 from spherewarp.maps.elliptic import MAX_FITTED_DEGREE
 
 
@@ -92,3 +93,23 @@ def test_every_field_of_a_valid_document_can_be_missing_or_hostile():
                     map_from_json(json.dumps(variant))
                 except InvalidValueError:
                     pass
+
+
+@pytest.mark.parametrize("t", [30, 1000, 1e6, -1e300])
+def test_a_power_out_of_range_says_so(t):
+    with pytest.raises(InvalidValueError, match=re.escape(f"the power {t:g} of this map is out")):
+        Mobius.zoom((0, 0), 4) ** t
+
+
+@pytest.mark.parametrize("t", [1 + 1j, "2", True, None])
+def test_a_power_that_is_not_a_real_number_is_a_type_error(t):
+    from spherewarp.errors import InvalidTypeError
+
+    with pytest.raises(InvalidTypeError, match="expected a real power"):
+        Mobius.zoom((0, 0), 4) ** t
+
+
+@pytest.mark.parametrize("cls", [Power, ExpMap])
+def test_power_and_exp_refuse_a_million_copies_and_more(cls):
+    with pytest.raises(InvalidValueError, match="at most 1e\\+06"):
+        cls(1e308)

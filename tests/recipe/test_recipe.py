@@ -536,3 +536,22 @@ def test_pose_follows_the_moebius_steps_only():
     assert r.at().pose == Mobius.from_yaw_pitch_roll(30, 0, 0).inverse()
     assert recipe({"power": {"n": 2}}).at().pose is None
     assert recipe({"rotate": {"yaw": 30}}, {"exp": {}}).at().pose is None
+
+
+@pytest.mark.parametrize("t", [None, "1", 1j, True])
+def test_a_time_that_is_not_a_number_is_a_recipe_error(t):
+    r = Recipe.loads('{"spherewarp": 1, "steps": []}')
+    with pytest.raises(RecipeError, match="time: expected a finite time"):
+        r.at(t)
+    assert r.at(np.float32(1.0)).map.is_identity()
+
+
+def test_the_size_limit_counts_utf8_bytes():
+    text = '{"spherewarp": 1, "steps": [], "inputs": ["' + "é" * 600_000 + '"]}'
+    with pytest.raises(RecipeError, match="at most 1000000 bytes, got 12000[0-9][0-9] bytes"):
+        Recipe.loads(text)
+
+
+def test_a_mask_that_is_a_folder_is_not_said_to_be_missing(tmp_path):
+    with pytest.raises(RecipeError, match="not a regular file"):
+        Recipe.from_dict({"spherewarp": 1, "steps": [{"droste": {"mask": str(tmp_path)}}]})

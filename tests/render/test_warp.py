@@ -442,3 +442,16 @@ def test_matches_paper_reference(interior, name):
     assert diff[away].max() <= REFERENCE_MAX_LEVELS, diff[away].max()
     # the reference folds over the poles as the sphere does, so the poles agree too
     assert diff.max() <= REFERENCE_MAX_LEVELS, diff.max()
+
+
+@pytest.mark.parametrize("shape", [(10.5, 20), (True, True), ("a", 3)])
+def test_output_shape_must_be_whole_numbers(shape):
+    with pytest.raises(InvalidValueError, match="output_shape"):
+        warp(np.zeros((8, 16, 3), np.uint8), Mobius.zoom((0, 0), 2), output_shape=shape)
+    assert warp(np.zeros((8, 16, 3), np.uint8), Mobius.identity(), output_shape=(4.0, 8)).shape \
+        == (4, 8, 3)
+
+
+def test_a_colour_name_as_background_is_a_type_error():
+    with pytest.raises(InvalidTypeError, match="sample values"):
+        warp(np.zeros((8, 16, 3), np.uint8), Mobius.zoom((0, 0), 2), background="red")

@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import coords
+from .._shape import whole_pair
 from ..errors import InvalidValueError
 
 __all__ = [
@@ -107,7 +108,12 @@ class Grid:
     panorama = False
 
     def __post_init__(self) -> None:
-        h, w = (int(v) for v in self.shape)
+        try:
+            h, w = whole_pair(self.shape)
+        except (TypeError, ValueError):
+            raise InvalidValueError(
+                f"expected a grid shape of two whole numbers, got {self.shape!r}"
+            ) from None
         if h < 1 or w < 1:
             raise InvalidValueError(f"expected a positive grid shape, got {self.shape!r}")
         object.__setattr__(self, "shape", (h, w))

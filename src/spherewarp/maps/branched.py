@@ -284,7 +284,9 @@ class Power(_ChartedMap):
     ):
         t = _round_int(_check_real(exponent, "exponent"))
         if t == 0:
-            raise InvalidValueError("expected a non-zero exponent, got 0 (a constant map)")
+            raise InvalidValueError(
+                f"expected a non-zero exponent, got {exponent!r} (a constant map)"
+            )
         if abs(t) > MAX_EXPONENT:  # z**n overflows; and n copies round a point are noise
             raise InvalidValueError(
                 f"expected an exponent of at most {MAX_EXPONENT:g} in size (that many copies "

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import cmath
 import math
+import numbers
 from collections.abc import Sequence
 from typing import Any
 
@@ -40,7 +41,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import coords
-from ..errors import InvalidValueError
+from ..errors import InvalidTypeError, InvalidValueError
 from .base import SphereMap, register_map
 
 __all__ = ["Mobius", "PointLike", "as_cp1_point"]
@@ -373,6 +374,8 @@ class Mobius(SphereMap):
         ...
         spherewarp.errors.InvalidValueError: the power 1000 of this map is out of range ...
         """
+        if isinstance(t, bool) or not isinstance(t, numbers.Real):
+            raise InvalidTypeError(f"expected a real power, got {t!r}")
         t = float(t)
         if not math.isfinite(t):
             raise InvalidValueError(f"expected a finite real power, got {t!r}")
@@ -385,14 +388,13 @@ class Mobius(SphereMap):
         s = cmath.acosh(tr / 2)
         if abs(s) < 1e-7:  # parabolic: M = I + N, M^t = I + t N
             return Mobius(np.eye(2) + t * n)
-        try:
-            c, sh = cmath.cosh(t * s), cmath.sinh(t * s)
-        except OverflowError:  # e**710 and beyond: every point is on a fixed point
+        try:  # e**710 and beyond overflows; far less is already singular in double precision
+            return Mobius(cmath.cosh(t * s) * np.eye(2) + (cmath.sinh(t * s) / cmath.sinh(s)) * n)
+        except (OverflowError, InvalidValueError):
             raise InvalidValueError(
                 f"the power {t:g} of this map is out of range (it would squeeze the whole sphere "
                 "onto a fixed point); expected a smaller power"
             ) from None
-        return Mobius(c * np.eye(2) + (sh / cmath.sinh(s)) * n)
 
     def to_rotation_matrix(self) -> NDArray[np.float64]:
         """The 3x3 rotation matrix of a rotation (acting on ``xyz`` column vectors).

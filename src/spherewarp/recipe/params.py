@@ -410,7 +410,8 @@ class File(Spec):
                 "named by its --recipe, or given with --mask)",
             )
         if not p.is_file():
-            raise RecipeError(path, f"expected an image file, got {value!r} (not found: {p})")
+            why = "not a regular file" if p.exists() else "not found"
+            raise RecipeError(path, f"expected an image file, got {value!r} ({why}: {p})")
         return p
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import numbers
 import os
 import stat
 from dataclasses import dataclass, field
@@ -210,10 +211,13 @@ class Recipe:
 
     @classmethod
     def loads(cls, text: str | bytes, base: str | os.PathLike[str] | None = None) -> Recipe:
-        """Parse and validate recipe JSON text (at most :data:`MAX_BYTES`)."""
-        if len(text) > MAX_BYTES:
+        """Parse and validate recipe JSON text (at most :data:`MAX_BYTES`, as UTF-8)."""
+        size = len(text) if isinstance(text, bytes) or len(text) * 4 <= MAX_BYTES else len(
+            text.encode("utf-8", "surrogatepass")
+        )  # a str: its UTF-8 bytes (up to 4 a character), counted only where it may matter
+        if size > MAX_BYTES:
             raise RecipeError(
-                "", f"expected a recipe of at most {MAX_BYTES} bytes, got {len(text)} bytes"
+                "", f"expected a recipe of at most {MAX_BYTES} bytes, got {size} bytes"
             )
         if isinstance(text, bytes):
             try:
@@ -298,7 +302,7 @@ class Recipe:
 
     def time(self, t: float) -> float:
         """The time the tracks are evaluated at: ``t`` modulo the duration for a loop."""
-        if not math.isfinite(t):
+        if isinstance(t, bool) or not isinstance(t, numbers.Real) or not math.isfinite(t):
             raise RecipeError("time", f"expected a finite time in seconds, got {t!r}")
         if self._loop and self._duration:
             return math.fmod(t, self._duration) % self._duration

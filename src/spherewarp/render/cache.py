@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._shape import whole_pair
 from ..errors import InvalidTypeError, InvalidValueError
 from ..maps.base import SphereMap
 from .plan import Options, Plan, _run_taps, output_buffer, plan
@@ -246,7 +247,7 @@ class WarpMap:
 
 def _check_shape(shape: Any, name: str, min_width: int = 2) -> tuple[int, int]:
     try:
-        h, w = (int(v) for v in shape)
+        h, w = whole_pair(shape)
     except (TypeError, ValueError):
         raise InvalidValueError(f"{name}: expected (height, width), got {shape!r}") from None
     if h < 1 or w < min_width or h * w > 1 << 30:

@@ -46,6 +46,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import coords
+from .._shape import whole_pair
 from ..errors import InvalidTypeError, InvalidValueError
 from ..maps.base import SphereMap
 from . import antialias as _aa
@@ -612,10 +613,10 @@ def plan(
     if out_shape is None:
         out_shape = (h_in, w_in)
     try:
-        h_out, w_out = (int(v) for v in out_shape)
+        h_out, w_out = whole_pair(out_shape)
     except (TypeError, ValueError):
         raise InvalidValueError(
-            f"expected output_shape as (height, width), got {out_shape!r}"
+            f"expected output_shape as (height, width), two whole numbers, got {out_shape!r}"
         ) from None
     if h_out < 1 or w_out < 1 or h_out * w_out > 1 << 30:
         raise InvalidValueError(

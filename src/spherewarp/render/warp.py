@@ -111,7 +111,13 @@ def check_equirect(image: NDArray, force: bool = False, name: str = "image") -> 
 def _background(background: ArrayLike | None, channels: int) -> NDArray[np.float32]:
     if background is None:
         return np.zeros(channels, np.float32)
-    bg = np.atleast_1d(np.asarray(background, dtype=np.float32))
+    try:
+        bg = np.atleast_1d(np.asarray(background, dtype=np.float32))
+    except (TypeError, ValueError):  # a colour name: the command line's --background takes it
+        raise InvalidTypeError(
+            f"expected a background of 1 or {channels} numbers (sample values), got "
+            f"{background!r}"
+        ) from None
     if bg.size == 1:
         bg = np.repeat(bg, channels)
     if bg.shape != (channels,) or not np.all(np.isfinite(bg)):
