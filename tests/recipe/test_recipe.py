@@ -555,3 +555,9 @@ def test_the_size_limit_counts_utf8_bytes():
 def test_a_mask_that_is_a_folder_is_not_said_to_be_missing(tmp_path):
     with pytest.raises(RecipeError, match="not a regular file"):
         Recipe.from_dict({"spherewarp": 1, "steps": [{"droste": {"mask": str(tmp_path)}}]})
+
+
+def test_steps_fine_alone_but_out_of_range_together_are_named():
+    steps = [{"zoom": {"at": [0, 0], "factor": 1e9}}, {"zoom": {"at": [10, 0], "factor": 1e9}}]
+    with pytest.raises(RecipeError, match="steps: steps 0 to 1 together: .*singular"):
+        Recipe.from_dict({"spherewarp": 1, "steps": steps})

@@ -321,8 +321,11 @@ class Recipe:
         if not maps:
             return Mobius.identity()
         total = maps[0]
-        for m in maps[1:]:
-            total = total @ m
+        for k, m in enumerate(maps[1:], 1):
+            try:
+                total = total @ m
+            except InvalidValueError as exc:  # each step fine, together out of range
+                raise RecipeError("steps", f"steps 0 to {k} together: {exc}") from None
         return total
 
     @property
@@ -495,6 +498,8 @@ class Recipe:
         for s in self._steps:  # every builder's own checks, at the start
             s.map_at(0.0)
         self._check_whole(data)
+        if len(self._steps) > 1:
+            self.map_at(0.0)  # and the steps composed
 
 
 def _check_whole_steps(recipe: Recipe, data: dict[str, Any]) -> None:
