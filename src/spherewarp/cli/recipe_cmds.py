@@ -271,9 +271,8 @@ def _chosen(ctx: click.Context, name: str) -> bool:
 
 
 def _with_recipe_options(ctx: click.Context, render: RenderOptions, frame: Any) -> Any:
-    """``render`` with the recipe's interp/supersample/antialias/size/background/tonemap/
-    exposure, except
-    those given on the command line; and the ``warp`` keyword arguments."""
+    """``render`` with the recipe's interp, supersample, antialias, size, background,
+    tonemap and exposure, except those given on the command line."""
     from dataclasses import replace
 
     kwargs = dict(frame.warp_kwargs)
