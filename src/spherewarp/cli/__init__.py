@@ -122,8 +122,17 @@ def _one_line(text: str) -> str:
 
 
 def _show_warning(message: Any, category: Any, *args: Any, **kwargs: Any) -> None:
-    """Print a Python warning as one ``spherewarp: warning: ...`` line (no source path)."""
-    click.echo(f"spherewarp: warning: {_one_line(message)}", err=True)
+    """Print a Python warning as one ``spherewarp: warning: ...`` line (no source path).
+
+    A warning that quotes a traceback (numba's for a ``NUMBA_NUM_THREADS`` it cannot
+    parse) keeps its text and the traceback's last line, the error, only.
+    """
+    text = str(message)
+    head, sep, tb = text.partition("Traceback (most recent call last):")
+    if sep:
+        last = [line for line in tb.splitlines() if line.strip()][-1:]
+        text = head + " ".join(last)
+    click.echo(f"spherewarp: warning: {_one_line(text)}", err=True)
 
 
 def error_line(exc: BaseException, prog: str = "spherewarp") -> tuple[str, int] | None:

@@ -634,7 +634,7 @@ def load_input(path: Path | str, render: RenderOptions | None = None, label: str
     """
     from ..io import read_image
     from ..io.remote import is_url, local_copy
-    from ..render.warp import check_equirect
+    from ..render.warp import as_image, check_equirect
     from ._files import job
 
     limit = render.max_pixels if render else None
@@ -648,6 +648,7 @@ def load_input(path: Path | str, render: RenderOptions | None = None, label: str
         job().reads(path, label)
         data = read_image(path, max_pixels=limit)
     check_equirect(data.pixels, force=bool(render and render.force), name=str(path))
+    as_image(data.pixels, name=str(path))  # its shape, naming the file (in a batch too)
     if render is not None and data.pixels.dtype.kind == "f":
         import numpy as np
 

@@ -257,13 +257,21 @@ def peirce(
             raise InvalidValueError(
                 f"{input}: expected a square Peirce quincuncial image, got {w}x{h}"
             )
+        if render.size is not None and render.size[0] != 2 * render.size[1]:
+            raise click.BadParameter(
+                f"expected a 2:1 size for the panorama, got {render.size[0]}x{render.size[1]}",
+                param_hint="--size",
+            )
         shape = (render.size[1], render.size[0]) if render.size else None
+        n = render.supersample  # --antialias N: N x N samples a pixel, as project --from
+        if not isinstance(render.antialias, str):
+            n = int(render.antialias)
         out = peirce_to_equirect(
             src.pixels,
             shape,
             lon0=lon0,
             interp=render.interp,
-            supersample=render.supersample,
+            supersample=n,
             progress=render.progress(),
         )
         save_output(out, src, render, command="peirce")
@@ -372,6 +380,9 @@ def _torus(
             job().writes(p, "--mesh", str(mesh))
             if p.exists() and not render.overwrite:
                 raise OutputExistsError(f"{str(p)!r} exists; pass --overwrite to replace it")
+        from ..io.atomic import check_writable
+
+        check_writable(mesh)  # before the picture is written, not after
     src = load_input(input, render)
     kw = {"interp": render.interp, "supersample": render.supersample, "force": render.force}
     out = render_recipe(step, render, src, "torus")[0]

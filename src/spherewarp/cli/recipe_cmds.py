@@ -251,12 +251,9 @@ def saving_recipe(
     text = command_recipe(data, base=p.resolve().parent).dumps()
     if p.exists() and not render.overwrite and earlier is None:
         raise OutputExistsError(f"{str(p)!r} exists; pass --overwrite to replace it")
-    if not p.parent.is_dir():  # refused now, not after the render (as a missing -o folder is)
-        from ..io.atomic import unwritable_error
+    from ..io.atomic import check_writable
 
-        missing = not p.parent.exists()
-        raise unwritable_error(p, FileNotFoundError(2, "No such file or directory") if missing
-                               else NotADirectoryError(20, "Not a directory"))  # fmt: skip
+    check_writable(p)  # refused now, not after the render (a missing folder, no permission)
     yield dry_run
     if earlier != data:
         write_text(p, text, overwrite=True)

@@ -92,6 +92,8 @@ def project(
         raise click.UsageError("project takes --to or --from, not --projection")
     if look_at is not None and render.view_at is not None:
         raise click.UsageError("give --look-at or --view-at, not both")
+    if roll and render.view_roll:  # (they were added together)
+        raise click.UsageError("give --roll or --view-roll, not both")
     render = replace(
         render,
         view_at=look_at if look_at is not None else render.view_at,
@@ -140,9 +142,14 @@ def _project_from(input: Path, render: RenderOptions, name: str) -> None:
     output_path(render, input, "equirect")  # refuse a bad -o before reading
     src = read_image(input, max_pixels=render.max_pixels)
     h, w = src.pixels.shape[:2]
-    grid = make_grid(
-        name, shape=(h, w), look_at=render.view_at, roll=render.view_roll, fov=render.fov
-    )
+    try:
+        grid = make_grid(
+            name, shape=(h, w), look_at=render.view_at, roll=render.view_roll, fov=render.fov
+        )
+    except InvalidValueError as exc:  # the input is not such a picture: name it
+        if "--fov" in exc.cli_message or "--look-at" in exc.cli_message:
+            raise
+        raise InvalidValueError(f"'{input}': {exc}") from None
     face = getattr(grid, "face", None)  # a cube map: a panorama as tall as a face
     size = (2 * h, h) if face is None else (2 * face, face)
     size = size if render.size is None else render.size

@@ -143,7 +143,7 @@ def make_grid(
         if cls in (Equirect, CubeMap3x2, CubeMap6x1, Peirce, Torus):
             raise InvalidValueError(
                 f"a field of view does not apply to {cls.name}",
-                cli=f"--fov does not apply to --projection {cls.name}",
+                cli=f"--fov does not apply to {cls.name} (it shows what its grid shows)",
             )
         kwargs["fov"] = float(fov)
     return cls(tuple(shape), **kwargs)

@@ -40,7 +40,10 @@ from pathlib import Path
 from .. import _signals
 from ..errors import ImageFormatError, OutputExistsError
 
-__all__ = ["atomic_file", "write_bytes", "write_text", "temp_name", "remove_stale", "remove_live"]
+__all__ = [
+    "atomic_file", "write_bytes", "write_text", "temp_name", "remove_stale", "remove_live",
+    "check_writable", "unwritable_error",
+]  # fmt: skip
 
 #: temporary files of this process not yet renamed or removed
 _LIVE: set[Path] = set()
@@ -144,6 +147,28 @@ def _make_temp(path: Path) -> Path:
         os.close(fd)
         return tmp
     raise OSError(f"no free temporary file name in '{path.parent}'")
+
+
+def check_writable(path: str | os.PathLike[str]) -> None:
+    """Raise now, not after the work, if ``path`` could not be written: its temporary file
+    is made and removed (the folder exists, is a folder, and takes a new file).
+
+    Raises
+    ------
+    ImageFormatError
+        :func:`unwritable_error`'s line for ``path``.
+
+    Examples
+    --------
+    >>> check_writable(Path("no/such/dir/a.obj"))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    spherewarp.errors.ImageFormatError: cannot write 'no/such/dir/a.obj': directory ... not exist
+    """
+    tmp = _make_temp(Path(path))
+    with contextlib.suppress(OSError):
+        tmp.unlink()
+    _LIVE.discard(tmp)
 
 
 def unwritable_error(path: Path, exc: OSError) -> ImageFormatError:

@@ -251,11 +251,11 @@ def pixel_limit(max_pixels: int | None = None) -> int:
             max_pixels = int(text.replace("_", ""))
         except ValueError:
             max_pixels = 0
-        if not 1 <= max_pixels <= 2**62:
+        if max_pixels < 1:
             raise InvalidValueError(
                 f"{MAX_PIXELS_ENV} must be a positive integer pixel count, got {text[:40]!r}"
             )
-        return max_pixels
+        return min(max_pixels, 2**62)  # beyond any image (as a huge --max-pixels is)
     if isinstance(max_pixels, bool) or not isinstance(max_pixels, (int, np.integer)):
         raise InvalidTypeError(f"max_pixels must be an int, got {type(max_pixels).__name__}")
     if max_pixels < 1:

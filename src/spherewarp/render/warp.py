@@ -81,10 +81,15 @@ def as_image(image: ArrayLike, name: str = "image") -> NDArray:
         raise InvalidTypeError(f"{name}: expected dtype uint8, uint16 or float32, got {arr.dtype}")
     if arr.ndim == 2:
         arr = arr[:, :, None]
-    if arr.ndim != 3 or not 1 <= arr.shape[2] <= 4 or arr.shape[0] < 1 or arr.shape[1] < 2:
+    if arr.ndim != 3 or not 1 <= arr.shape[2] <= 4:
         raise InvalidValueError(
             f"{name}: expected an image of shape (H, W) or (H, W, C) with 1-4 channels, "
             f"got {arr.shape}"
+        )
+    if arr.shape[0] < 1 or arr.shape[1] < 2:
+        raise InvalidValueError(
+            f"{name}: expected an image at least 2 pixels wide and 1 high, got "
+            f"{arr.shape[1]}x{arr.shape[0]}"
         )
     return arr
 
