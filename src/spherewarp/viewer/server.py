@@ -41,7 +41,12 @@ Security: the ``Host`` header must name the address the server listens on
 :data:`MAX_BODY` gets 413; a path with ``..`` (also URL-encoded) gets 404; a
 posted recipe naming a file (a mask) other than those the server was started with
 gets 403 before the file is looked at
-(:func:`spherewarp.recipe.params.allowed_files`).
+(:func:`spherewarp.recipe.params.allowed_files`). A request whose framing two
+parsers could read differently (two ``Host`` or ``Content-Length`` headers, any
+``Transfer-Encoding``, a length that is not plain digits, a target that is not a
+path) gets 400. Every error reply, and any reply to a request whose body was not
+read, closes the connection: what is left of a request is never read as the next
+one (a refused request's body would pass the checks above).
 Renders go to a temporary folder of the server's own, removed on close:
 nothing next to the inputs changes.
 
@@ -61,6 +66,7 @@ import io
 import json
 import mimetypes
 import os
+import re
 import shutil
 import tempfile
 import threading
@@ -98,6 +104,8 @@ _VIDEO_TYPES = {
     ".webm": "webm",
 }
 _LOOPBACK = {"127.0.0.1", "localhost", "::1"}
+#: a Content-Length as HTTP has it: digits only (``int()`` also reads ``+27``, ``2_7``)
+_LENGTH = re.compile(r"[0-9]{1,18}")
 _EMPTY = {"spherewarp": 1, "steps": []}
 
 
@@ -498,6 +506,7 @@ class _Error(Exception):
 class _Handler(BaseHTTPRequestHandler):
     server_version = "spherewarp-view"
     protocol_version = "HTTP/1.1"
+    _body_read = False  # whether the request's body was read (set by _begin, _body)
 
     @property
     def viewer(self) -> ViewerServer:
@@ -507,6 +516,45 @@ class _Handler(BaseHTTPRequestHandler):
         pass
 
     # -- checks ---------------------------------------------------------------------------
+    def _begin(self) -> None:
+        """Start on a request (the handler serves each request of a kept-alive
+        connection in turn): its body is not read yet, and its framing must be plain."""
+        self._body_read = False
+        self._check_framing()
+
+    def _check_framing(self) -> None:
+        """Refuse (400) what two HTTP parsers could read as different requests: a proxy
+        in front, or this server after a refusal, must never see a body as a request.
+
+        Raises
+        ------
+        _Error
+            400 for a second ``Host`` or ``Content-Length``, any ``Transfer-Encoding``
+            (only ``Content-Length`` bodies are read), a length that is not plain
+            digits, or a request target that is not a path (absolute-form
+            ``http://host/path``, authority-form, ``*``).
+        """
+        if not self.path.startswith("/"):
+            raise _Error(400, "the request target must be a path (/...)")
+        for name in ("Host", "Content-Length"):
+            if len(self.headers.get_all(name, [])) > 1:
+                raise _Error(400, f"more than one {name} header")
+        if self.headers.get("Transfer-Encoding") is not None:
+            raise _Error(400, "Transfer-Encoding is not supported: send a Content-Length")
+        length = self.headers.get("Content-Length")
+        if length is not None and not _LENGTH.fullmatch(length.strip(" \t")):
+            raise _Error(400, f"bad Content-Length {length:.20}")
+
+    def _body_pending(self) -> bool:
+        """Whether the request has a body not read (or a length not understood)."""
+        if self._body_read:
+            return False
+        length = self.headers.get("Content-Length")
+        if length is None:
+            return self.headers.get("Transfer-Encoding") is not None
+        length = length.strip(" \t")
+        return not (_LENGTH.fullmatch(length) and int(length) == 0)
+
     def _check_common(self, api: bool) -> None:
         host = self.headers.get("Host", "")
         if host.lower() not in self.viewer.allowed_hosts:
@@ -520,7 +568,8 @@ class _Handler(BaseHTTPRequestHandler):
                 raise _Error(403, f"cross-site request ({site}) refused")
 
     def _path(self) -> str:
-        raw = urllib.parse.urlsplit(self.path).path
+        # the path as sent: urlsplit would read "//name/x" as a host and the path /x
+        raw = self.path.partition("?")[0].partition("#")[0]
         path = urllib.parse.unquote(raw)
         if "\x00" in path or "\\" in path:
             raise _Error(400, "bad path")
@@ -545,16 +594,14 @@ class _Handler(BaseHTTPRequestHandler):
         length = self.headers.get("Content-Length")
         if length is None:
             raise _Error(411, "a Content-Length is required")
-        try:
-            n = int(length)
-        except ValueError:
-            raise _Error(400, "bad Content-Length") from None
-        if n < 0:
-            raise _Error(400, "bad Content-Length")
-        if n > MAX_BODY:
-            self.close_connection = True
+        n = int(length.strip(" \t"))  # plain digits (_check_framing)
+        if n > MAX_BODY:  # refused unread: the reply closes the connection
             raise _Error(413, f"body of {n} bytes is over the limit of {MAX_BODY} bytes")
-        return self.rfile.read(n)
+        body = self.rfile.read(n)
+        if len(body) < n:  # the client went away: nothing more to read
+            self.close_connection = True
+        self._body_read = True
+        return body
 
     def _recipe(self) -> Any:
         from ..recipe import Recipe, RecipeError
@@ -572,15 +619,25 @@ class _Handler(BaseHTTPRequestHandler):
             raise _Error(400, f"recipe: {exc}") from None
 
     # -- replies --------------------------------------------------------------------------
-    def _send(self, status: int, body: bytes, ctype: str, extra: dict[str, str] | None = None):
+    def _head(self, status: int, ctype: str, length: int, extra: dict[str, str]) -> None:
+        """The status line and headers. An error reply, or a reply to a request whose body
+        was not read, ends the connection (``Connection: close``): what is left of the
+        request is never read as the next one."""
         self.send_response(status)
         self.send_header("Content-Type", ctype)
-        self.send_header("Content-Length", str(len(body)))
+        self.send_header("Content-Length", str(length))
         self.send_header("X-Content-Type-Options", "nosniff")
         self.send_header("Cache-Control", "no-store")
-        for k, v in (extra or {}).items():
+        for k, v in extra.items():
             self.send_header(k, v)
+        if status >= 400 or self._body_pending():
+            self.send_header("Connection", "close")  # also sets self.close_connection
         self.end_headers()
+
+    def _send(
+        self, status: int, body: bytes, ctype: str, extra: dict[str, str] | None = None
+    ) -> None:
+        self._head(status, ctype, len(body), extra or {})
         if self.command != "HEAD":
             self.wfile.write(body)
 
@@ -592,15 +649,10 @@ class _Handler(BaseHTTPRequestHandler):
         except ValueError as exc:
             raise _Error(416, str(exc)) from None
         a, b = rng if rng is not None else (0, size - 1)
-        self.send_response(206 if rng is not None else 200)
-        self.send_header("Content-Type", ctype)
-        self.send_header("Accept-Ranges", "bytes")
-        self.send_header("Content-Length", str(max(0, b - a + 1)))
+        extra = {"Accept-Ranges": "bytes"}
         if rng is not None:
-            self.send_header("Content-Range", f"bytes {a}-{b}/{size}")
-        self.send_header("X-Content-Type-Options", "nosniff")
-        self.send_header("Cache-Control", "no-store")
-        self.end_headers()
+            extra["Content-Range"] = f"bytes {a}-{b}/{size}"
+        self._head(206 if rng is not None else 200, ctype, max(0, b - a + 1), extra)
         if self.command == "HEAD":
             return
         with open(path, "rb") as f:
@@ -624,6 +676,7 @@ class _Handler(BaseHTTPRequestHandler):
 
     def do_GET(self) -> None:  # noqa: N802
         try:
+            self._begin()
             path = self._path()
             self._check_common(path.startswith("/api/"))
             self._get(path)
@@ -634,6 +687,7 @@ class _Handler(BaseHTTPRequestHandler):
 
     def do_POST(self) -> None:  # noqa: N802
         try:
+            self._begin()
             path = self._path()
             self._check_common(True)
             if path == "/api/stages":

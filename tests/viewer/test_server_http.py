@@ -1,0 +1,124 @@
+"""The viewer's server at the level of raw HTTP: request framing, kept-alive
+connections, the addresses it listens on, clients that go away."""
+
+from __future__ import annotations
+
+import json
+import socket
+
+import pytest
+
+from spherewarp.viewer.server import ViewerServer
+
+
+@pytest.fixture(scope="module")
+def srv():
+    s = ViewerServer(None, None)
+    yield s
+    s.close()
+
+
+def _exchange(port: int, data: bytes, host: str = "127.0.0.1") -> bytes:
+    """Send ``data`` on one connection and read until the server closes it (a server
+    that keeps the connection open fails on the socket's timeout)."""
+    with socket.create_connection((host, port), timeout=20) as s:
+        s.sendall(data)
+        out = b""
+        while chunk := s.recv(65536):
+            out += chunk
+    return out
+
+
+def _request(port: int, method: str, target: str, body: bytes = b"", headers: str = "") -> bytes:
+    head = f"{method} {target} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\n{headers}"
+    if body:
+        head += f"Content-Length: {len(body)}\r\n"
+    return head.encode() + b"\r\n" + body
+
+
+def _replies(data: bytes) -> list[int]:
+    """The status of each reply in ``data``."""
+    return [int(part[:3]) for part in data.split(b"HTTP/1.1 ")[1:] if part[:3].isdigit()]
+
+
+def _smuggled(port: int) -> bytes:
+    """A render request, sent as the body of another request."""
+    recipe = json.dumps({"spherewarp": 1, "steps": [{"zoom": {"at": [0, 0], "factor": 3}}]})
+    return _request(port, "POST", "/api/render", recipe.encode())
+
+
+@pytest.mark.parametrize(
+    ("method", "target", "headers", "status"),
+    [
+        ("POST", "/api/stages", "Origin: http://evil.example\r\n", 403),
+        ("POST", "/api/stages", "Sec-Fetch-Site: cross-site\r\n", 403),
+        ("POST", "/api/render", "Origin: http://evil.example\r\n", 403),
+        ("POST", "/api/nope", "", 404),
+        ("POST", "/../api/render", "", 404),
+        ("GET", "/api/state", "", 200),  # a body a GET does not read
+        ("GET", "/image", "", 200),
+        ("GET", "/no-such-file", "", 404),
+    ],
+)
+def test_a_body_not_read_is_never_a_request(srv, method, target, headers, status):
+    """The body of a request the server does not read (refused, or a GET's) is never
+    parsed as the next request on the connection: the reply says
+    ``Connection: close`` and the connection closes, so the render inside never runs."""
+    inner = _smuggled(srv.port)
+    out = _exchange(srv.port, _request(srv.port, method, target, inner, headers))
+    assert _replies(out) == [status], out[:300]
+    assert b"\r\nConnection: close\r\n" in out
+    assert not srv.jobs
+
+
+def test_a_refused_host_closes_the_connection(srv):
+    inner = _smuggled(srv.port)
+    req = (
+        f"POST /api/stages HTTP/1.1\r\nHost: evil.example:{srv.port}\r\n"
+        f"Content-Length: {len(inner)}\r\n\r\n"
+    ).encode() + inner
+    out = _exchange(srv.port, req)
+    assert _replies(out) == [403] and b"DNS rebinding" in out
+    assert not srv.jobs
+
+
+@pytest.mark.parametrize(
+    ("head", "why"),
+    [
+        ("POST /api/render HTTP/1.1\r\nHost: {h}\r\nHost: {h}\r\n", "more than one Host"),
+        (
+            "POST /api/render HTTP/1.1\r\nHost: {h}\r\nContent-Length: 0\r\n",
+            "more than one Content-Length",
+        ),
+        ("POST /api/render HTTP/1.1\r\nHost: {h}\r\nTransfer-Encoding: chunked\r\n", "Transfer"),
+        ("POST /api/render HTTP/1.1\r\nHost: {h}\r\nTransfer-Encoding: identity\r\n", "Transfer"),
+        ("POST /api/stages HTTP/1.1\r\nHost: {h}\r\nContent-Length: +{n}\r\n", "Content-Length"),
+        ("POST /api/stages HTTP/1.1\r\nHost: {h}\r\nContent-Length: 0_{n}\r\n", "Content-Length"),
+        ("POST /api/stages HTTP/1.1\r\nHost: {h}\r\nContent-Length: 0x1f\r\n", "Content-Length"),
+        ("GET http://evil.example/api/state HTTP/1.1\r\nHost: {h}\r\n", "request target"),
+        ("POST http://{h}/api/render HTTP/1.1\r\nHost: {h}\r\n", "request target"),
+    ],
+)
+def test_ambiguous_framing_is_refused(srv, head, why):
+    """What two parsers could read differently (two Hosts or lengths, a transfer coding,
+    a length ``int()`` reads but HTTP does not, an absolute-form target) is a 400, and
+    the connection closes."""
+    inner = _smuggled(srv.port)
+    head = head.format(h=f"127.0.0.1:{srv.port}", n=len(inner))
+    if "Content-Length" not in head or "Content-Length: 0\r\n" in head:
+        head += f"Content-Length: {len(inner)}\r\n"
+    out = _exchange(srv.port, head.encode() + b"\r\n" + inner)
+    assert _replies(out) == [400], out[:300]
+    assert why in json.loads(out.partition(b"\r\n\r\n")[2])["error"]
+    assert not srv.jobs
+
+
+def test_kept_alive_requests_still_work(srv):
+    """Replies that read the whole request keep the connection: two requests on one."""
+    body = json.dumps({"spherewarp": 1, "steps": [{"power": {"n": 2}}]}).encode()
+    req = _request(srv.port, "POST", "/api/stages", body) + _request(
+        srv.port, "GET", "/api/state", headers="Connection: close\r\n"
+    )
+    out = _exchange(srv.port, req)
+    assert _replies(out) == [200, 200]
+    assert b"Connection: close" not in out.split(b"HTTP/1.1 ")[1]
