@@ -246,6 +246,8 @@ def test_cli_view_prints_url_and_warns(tmp_path):
         p.terminate()
         _, err = p.communicate(timeout=10)
     assert "warning: listening on 0.0.0.0, not loopback" in err
+    # the names it answers to (any other Host is refused)
+    assert "host names 0.0.0.0, 127.0.0.1, localhost" in err and "Traceback" not in err
 
 
 def test_cli_view_bad_recipe_is_one_line(tmp_path):

@@ -122,3 +122,31 @@ def test_kept_alive_requests_still_work(srv):
     out = _exchange(srv.port, req)
     assert _replies(out) == [200, 200]
     assert b"Connection: close" not in out.split(b"HTTP/1.1 ")[1]
+
+
+def _status(port: int, host_header: str, connect: str = "127.0.0.1", path: str = "/") -> int:
+    out = _exchange(
+        port,
+        f"GET {path} HTTP/1.1\r\nHost: {host_header}\r\nConnection: close\r\n\r\n".encode(),
+        host=connect,
+    )
+    return _replies(out)[0]
+
+
+def test_every_interface_answers_to_this_machines_names():
+    """--host 0.0.0.0 answers to the loopback names and this machine's own names and
+    addresses, and still refuses any other Host (DNS rebinding)."""
+    try:
+        s = ViewerServer(None, None, host="0.0.0.0")
+    except OSError as exc:  # pragma: no cover - a sandbox without the wildcard address
+        pytest.skip(f"cannot listen on 0.0.0.0: {exc}")
+    try:
+        p = s.port
+        for name in ("127.0.0.1", "localhost", "0.0.0.0", socket.gethostname()):
+            assert _status(p, f"{name}:{p}") == 200, name
+            assert _status(p, f"{name}:{p}", path="/api/state") == 200, name
+        assert {"127.0.0.1", "localhost", socket.gethostname().lower()} <= set(s.host_names)
+        for bad in (f"evil.example:{p}", "evil.example", f"127.0.0.1:{p + 1}", ""):
+            assert _status(p, bad) == 403, bad
+    finally:
+        s.close()

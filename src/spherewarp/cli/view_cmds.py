@@ -63,15 +63,8 @@ def view(
     the cursor. The page edits a recipe: save it, copy it as a command, or
     render it at full resolution with the Python renderer. Ctrl-C stops.
     """
-    from ..viewer.server import ViewerServer
-
-    if host not in ("127.0.0.1", "localhost", "::1"):
-        click.echo(
-            f"spherewarp: warning: listening on {host}, not loopback: other machines can "
-            "reach this page",
-            err=True,
-        )
     from ..errors import ImageFormatError
+    from ..viewer.server import ViewerServer
 
     try:
         srv = ViewerServer(image, recipe, masks=masks, host=host, port=port)
@@ -81,6 +74,13 @@ def view(
         raise click.BadParameter(
             f"cannot listen on {host}:{port}: {exc.strerror or exc}", param_hint="'--port'"
         ) from None
+    if srv.host not in ("127.0.0.1", "localhost", "::1"):
+        click.echo(
+            f"spherewarp: warning: listening on {srv.host}, not loopback: other machines can "
+            f"reach this page; it answers to the host names {', '.join(srv.host_names)} "
+            "(any other name is refused)",
+            err=True,
+        )
     click.echo(f"spherewarp view: {srv.url}  (Ctrl-C stops)", nl=True)
     if not no_browser:
         import webbrowser

@@ -68,6 +68,7 @@ import mimetypes
 import os
 import re
 import shutil
+import socket
 import tempfile
 import threading
 import urllib.parse
@@ -86,6 +87,7 @@ __all__ = [
     "LabelCache",
     "ViewerServer",
     "byte_range",
+    "host_names",
     "packed_stages",
     "steps_at",
     "video_frame",
@@ -104,6 +106,8 @@ _VIDEO_TYPES = {
     ".webm": "webm",
 }
 _LOOPBACK = {"127.0.0.1", "localhost", "::1"}
+#: the addresses that listen on every interface (IPv4, IPv6: both where the system allows)
+_WILDCARD = {"0.0.0.0", "::", ""}
 #: a Content-Length as HTTP has it: digits only (``int()`` also reads ``+27``, ``2_7``)
 _LENGTH = re.compile(r"[0-9]{1,18}")
 _EMPTY = {"spherewarp": 1, "steps": []}
@@ -326,6 +330,66 @@ def byte_range(header: str | None, size: int) -> tuple[int, int] | None:
     return a, b
 
 
+def _url_host(address: str) -> str:
+    """An address or name as a URL's host: an IPv6 address in brackets."""
+    return f"[{address}]" if ":" in address else address
+
+
+def _own_addresses(ipv6: bool) -> list[str]:
+    """This machine's names and addresses, as far as the standard library tells: its host
+    name, its fully qualified name, the addresses that name resolves to, and the address
+    it reaches other machines from (a connected UDP socket's; no packet is sent)."""
+    names = [socket.gethostname(), socket.getfqdn()]
+    families = [socket.AF_INET, socket.AF_INET6] if ipv6 else [socket.AF_INET]
+    try:
+        for family, *_, sockaddr in socket.getaddrinfo(socket.gethostname(), None):
+            if family in families:
+                names.append(str(sockaddr[0]))
+    except OSError:  # a host name that does not resolve
+        pass
+    probes = {socket.AF_INET: "192.0.2.1", socket.AF_INET6: "2001:db8::1"}  # documentation
+    for family in families:
+        try:
+            with socket.socket(family, socket.SOCK_DGRAM) as s:
+                s.connect((probes[family], 9))
+                names.append(str(s.getsockname()[0]))
+        except OSError:  # no route: no such address
+            pass
+    return [n for n in names if n and "%" not in n]  # no link-local zone ids
+
+
+def host_names(host: str) -> list[str]:
+    """The names a server listening on ``host`` answers to (in its requests' ``Host``
+    header, with the port); any other is refused, against DNS rebinding.
+
+    ``host`` itself; for a loopback address, the loopback names; for an address that
+    listens on every interface (``0.0.0.0``, ``::``), the loopback names and this
+    machine's names and addresses too (:func:`_own_addresses`), the ways other machines
+    and this one reach it. IPv6 addresses are in brackets, as in a URL.
+
+    Examples
+    --------
+    >>> host_names("127.0.0.1"), host_names("::1")
+    (['127.0.0.1', 'localhost'], ['[::1]', '127.0.0.1', 'localhost'])
+    >>> host_names("192.168.1.20"), "localhost" in host_names("0.0.0.0")
+    (['192.168.1.20'], True)
+    """
+    host = host.strip("[]").lower()
+    names = [host]
+    if host in _LOOPBACK or host in _WILDCARD:
+        names += ["127.0.0.1", "localhost"]
+    if host in ("::", ""):  # both stacks: IPv6 loopback too
+        names.append("::1")
+    if host in _WILDCARD:
+        names += _own_addresses(ipv6=host != "0.0.0.0")
+    out: list[str] = []
+    for name in names:
+        name = _url_host(name.lower()) if name else name
+        if name and name not in out:
+            out.append(name)
+    return out
+
+
 def _png_bytes(pixels: np.ndarray) -> bytes:
     from PIL import Image
 
@@ -366,7 +430,11 @@ class ViewerServer:
         recipe names: no other file is read for a recipe that comes over HTTP
         (``schottky.mask``, ``droste.mask``: 403 otherwise).
     host : str
-        The address to listen on (loopback by default).
+        The address to listen on (loopback by default): IPv4, or IPv6 (``::1``, also as
+        ``[::1]``). Requests must name it, or another name of it, in their ``Host``
+        header (:func:`host_names`; 403 otherwise): an address that listens on every
+        interface (``0.0.0.0``, ``::``) answers to the loopback names and this machine's
+        own names and addresses.
     port : int
         The port (0: a free one).
     """
@@ -413,12 +481,11 @@ class ViewerServer:
         self.httpd.viewer = self  # type: ignore[attr-defined]
         self.host = host
         self.port = self.httpd.server_address[1]
-        name = f"[{host}]" if ":" in host else host
-        self.allowed_hosts = {f"{name}:{self.port}"}
-        if host in _LOOPBACK:
-            self.allowed_hosts |= {f"{h}:{self.port}" for h in ("127.0.0.1", "localhost")}
+        #: the names requests may give in their Host header (without the port)
+        self.host_names = host_names(host)
+        self.allowed_hosts = {f"{h}:{self.port}" for h in self.host_names}
         self.origins = {f"http://{h}" for h in self.allowed_hosts}
-        self.url = f"http://{name}:{self.port}/"
+        self.url = f"http://{_url_host(host)}:{self.port}/"
         self._thread = threading.Thread(target=self.httpd.serve_forever, daemon=True)
         self._thread.start()
 
