@@ -4,7 +4,10 @@ connections, the addresses it listens on, clients that go away."""
 from __future__ import annotations
 
 import json
+import os
 import socket
+import subprocess
+import sys
 
 import pytest
 
@@ -150,3 +153,60 @@ def test_every_interface_answers_to_this_machines_names():
             assert _status(p, bad) == 403, bad
     finally:
         s.close()
+
+
+def _ipv6_loopback() -> bool:
+    if not socket.has_ipv6:
+        return False
+    try:
+        with socket.socket(socket.AF_INET6) as s:
+            s.bind(("::1", 0))
+    except OSError:
+        return False
+    return True
+
+
+@pytest.mark.skipif(not _ipv6_loopback(), reason="no IPv6 loopback here")
+@pytest.mark.parametrize("host", ["::1", "[::1]"])
+def test_ipv6_loopback(host):
+    """--host ::1 listens on IPv6 (http.server's class is IPv4 only)."""
+    s = ViewerServer(None, None, host=host)
+    try:
+        p = s.port
+        assert s.url == f"http://[::1]:{p}/"
+        assert _status(p, f"[::1]:{p}", connect="::1") == 200
+        assert _status(p, f"[::1]:{p}", connect="::1", path="/api/state") == 200
+        assert _status(p, f"localhost:{p}", connect="::1") == 200
+        assert _status(p, f"evil.example:{p}", connect="::1") == 403
+    finally:
+        s.close()
+
+
+def _view(tmp_path, *args: str) -> subprocess.CompletedProcess:
+    """``spherewarp view`` that cannot start, with its own temporary folder."""
+    env = {**os.environ, "TMPDIR": str(tmp_path)}
+    return subprocess.run(
+        [sys.executable, "-m", "spherewarp", "view", "--no-browser", *args],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env=env,
+    )
+
+
+def test_cannot_listen_names_the_option_at_fault(tmp_path):
+    """A host that is not this machine's (or no host at all) is '--host''s error, a
+    port in use '--port''s; one line, and no temporary folder is left."""
+    for host in ("192.0.2.77", "no-such-host.invalid"):
+        p = _view(tmp_path, "--host", host)
+        assert p.returncode == 2 and p.stdout == "" and "Traceback" not in p.stderr
+        assert len(p.stderr.strip().splitlines()) == 1, p.stderr
+        assert f"Invalid value for '--host': cannot listen on {host}:0" in p.stderr
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        port = busy.getsockname()[1]
+        p = _view(tmp_path, "--port", str(port))
+    assert p.returncode == 2 and "Traceback" not in p.stderr
+    assert f"Invalid value for '--port': cannot listen on 127.0.0.1:{port}" in p.stderr
+    assert not [q for q in tmp_path.iterdir() if q.name.startswith("spherewarp-view-")]

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import errno
+import socket
 from pathlib import Path
 
 import click
@@ -9,6 +11,21 @@ import click
 from ._common import example
 
 __all__ = ["view"]
+
+
+def _where(host: str, port: int) -> str:
+    """``host:port``, an IPv6 address in brackets."""
+    host = host.strip("[]")
+    return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
+
+
+def _port_problem(exc: OSError) -> bool:
+    """Whether a failure to listen is the port's (in use, or not this user's to take);
+    otherwise it is the host's (no such name, not an address of this machine, an
+    address family the system lacks)."""
+    if isinstance(exc, socket.gaierror):
+        return False
+    return exc.errno in (errno.EADDRINUSE, errno.EACCES, errno.EPERM)
 
 
 @click.command(
@@ -43,8 +60,8 @@ __all__ = ["view"]
     "--host",
     default="127.0.0.1",
     show_default=True,
-    help="Address to listen on; anything but loopback makes the page reachable from "
-    "other machines.",
+    help="Address to listen on (IPv4, or IPv6 such as ::1); anything but loopback makes "
+    "the page reachable from other machines.",
 )
 @click.option("--no-browser", is_flag=True, help="Print the URL only; do not open a browser.")
 def view(
@@ -72,7 +89,8 @@ def view(
         raise
     except OSError as exc:
         raise click.BadParameter(
-            f"cannot listen on {host}:{port}: {exc.strerror or exc}", param_hint="'--port'"
+            f"cannot listen on {_where(host, port)}: {exc.strerror or exc}",
+            param_hint="'--port'" if _port_problem(exc) else "'--host'",
         ) from None
     if srv.host not in ("127.0.0.1", "localhost", "::1"):
         click.echo(

@@ -405,6 +405,32 @@ def _png_bytes(pixels: np.ndarray) -> bytes:
     return buf.getvalue()
 
 
+class _Server(ThreadingHTTPServer):
+    """The HTTP server on IPv4 (``http.server``'s), one thread a connection."""
+
+    daemon_threads = True
+
+
+class _Server6(_Server):
+    """The HTTP server on IPv6; on ``::``, IPv4 too where the system allows."""
+
+    address_family = socket.AF_INET6
+
+    def server_bind(self) -> None:
+        if self.server_address[0] == "::":  # every interface: both stacks
+            try:
+                self.socket.setsockopt(socket.IPPROTO_IPV6, socket.IPV6_V6ONLY, 0)
+            except (OSError, AttributeError):  # a system with IPv6 sockets only
+                pass
+        super().server_bind()
+
+
+def _server(host: str, port: int) -> _Server:
+    """A server listening on ``host`` (an IPv6 address: on IPv6) and ``port``."""
+    cls = _Server6 if ":" in host else _Server
+    return cls((host, port), _Handler)
+
+
 class _Job:
     def __init__(self) -> None:
         self.progress = 0.0
@@ -475,10 +501,11 @@ class ViewerServer:
         self.jobs: dict[str, _Job] = {}
         self.labels = LabelCache()  # masked Schottky labels by key (/api/labels/KEY)
         self._pattern: bytes | None = None
-        self.tmp = Path(tempfile.mkdtemp(prefix="spherewarp-view-"))
-        self.httpd = ThreadingHTTPServer((host, port), _Handler)
-        self.httpd.daemon_threads = True
+        host = host.strip("[]")  # an IPv6 address as in a URL: [::1]
+        self.httpd = _server(host, port)  # OSError: cannot listen (nothing made yet)
         self.httpd.viewer = self  # type: ignore[attr-defined]
+        self.tmp = Path(tempfile.mkdtemp(prefix="spherewarp-view-"))
+        #: the address it listens on (an IPv6 address without brackets)
         self.host = host
         self.port = self.httpd.server_address[1]
         #: the names requests may give in their Host header (without the port)
