@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import socket
+import struct
 import subprocess
 import sys
 
@@ -210,3 +212,57 @@ def test_cannot_listen_names_the_option_at_fault(tmp_path):
     assert p.returncode == 2 and "Traceback" not in p.stderr
     assert f"Invalid value for '--port': cannot listen on 127.0.0.1:{port}" in p.stderr
     assert not [q for q in tmp_path.iterdir() if q.name.startswith("spherewarp-view-")]
+
+
+def _reset(sock: socket.socket) -> None:
+    """Close with a reset (RST), as a client that goes away mid-reply does."""
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
+    sock.close()
+
+
+def test_clients_that_go_away_print_nothing(tmp_path):
+    """A client that resets the connection mid-reply, or while the server waits for its
+    next request, is no traceback on the command's stderr; the server goes on."""
+    env = {**os.environ, "TMPDIR": str(tmp_path)}
+    cmd = [sys.executable, "-m", "spherewarp", "view", "--no-browser"]
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        line = p.stdout.readline()
+        assert line.startswith("spherewarp view: http://127.0.0.1:"), line
+        port = int(line.split(":")[3].split("/")[0])
+        for _ in range(4):
+            # the test pattern takes a while to make (the first time): the client is gone
+            # before the reply is written
+            s = socket.create_connection(("127.0.0.1", port), timeout=20)
+            s.sendall(_request(port, "GET", "/testpattern"))
+            _reset(s)
+            # a whole reply read, then a reset while the server reads the next request
+            s = socket.create_connection(("127.0.0.1", port), timeout=20)
+            s.sendall(_request(port, "GET", "/api/state"))
+            got = b""
+            while not got.endswith(b"}"):
+                got += s.recv(65536)
+            _reset(s)
+            assert _status(port, f"127.0.0.1:{port}", path="/testpattern") == 200
+    finally:
+        p.send_signal(signal.SIGINT)
+        out, err = p.communicate(timeout=60)
+    assert "Traceback" not in err and "Exception occurred" not in err, err
+    assert err.strip().splitlines() == [
+        "spherewarp: interrupted (no partially written file is left)"
+    ]
+
+
+def test_an_unexpected_error_is_one_line(srv, capsys):
+    """An error of the server's own (not a client going away) is one line on stderr."""
+    for exc in (ConnectionResetError(104, "reset"), BrokenPipeError(32, "pipe")):
+        try:
+            raise exc
+        except OSError:
+            srv.httpd.handle_error(None, ("127.0.0.1", 1))
+    assert capsys.readouterr().err == ""
+    try:
+        raise ValueError("bad\nthing")
+    except ValueError:
+        srv.httpd.handle_error(None, ("127.0.0.1", 1))
+    assert capsys.readouterr().err == "spherewarp view: error serving 127.0.0.1: ValueError: bad\n"

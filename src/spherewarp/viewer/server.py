@@ -69,6 +69,7 @@ import os
 import re
 import shutil
 import socket
+import sys
 import tempfile
 import threading
 import urllib.parse
@@ -410,6 +411,16 @@ class _Server(ThreadingHTTPServer):
 
     daemon_threads = True
 
+    def handle_error(self, request: Any, client_address: Any) -> None:
+        """A client that went away (reset, broken pipe) is no error; anything else
+        unexpected is one line on stderr, not socketserver's traceback."""
+        exc = sys.exc_info()[1]
+        if isinstance(exc, ConnectionError):
+            return
+        where = client_address[0] if isinstance(client_address, tuple) else client_address
+        line = f"{type(exc).__name__}: {exc}".splitlines()[0]
+        print(f"spherewarp view: error serving {where}: {line}", file=sys.stderr, flush=True)
+
 
 class _Server6(_Server):
     """The HTTP server on IPv6; on ``::``, IPv4 too where the system allows."""
@@ -731,9 +742,12 @@ class _Handler(BaseHTTPRequestHandler):
     def _send(
         self, status: int, body: bytes, ctype: str, extra: dict[str, str] | None = None
     ) -> None:
-        self._head(status, ctype, len(body), extra or {})
-        if self.command != "HEAD":
-            self.wfile.write(body)
+        try:
+            self._head(status, ctype, len(body), extra or {})
+            if self.command != "HEAD":
+                self.wfile.write(body)
+        except ConnectionError:  # the client went away (reset, broken pipe)
+            self.close_connection = True
 
     def _send_file(self, path: Path, ctype: str) -> None:
         """The file, or the one byte range asked for (206), in pieces: a video may be big."""
@@ -746,21 +760,21 @@ class _Handler(BaseHTTPRequestHandler):
         extra = {"Accept-Ranges": "bytes"}
         if rng is not None:
             extra["Content-Range"] = f"bytes {a}-{b}/{size}"
-        self._head(206 if rng is not None else 200, ctype, max(0, b - a + 1), extra)
-        if self.command == "HEAD":
-            return
-        with open(path, "rb") as f:
-            f.seek(a)
-            left = b - a + 1
-            try:
+        try:
+            self._head(206 if rng is not None else 200, ctype, max(0, b - a + 1), extra)
+            if self.command == "HEAD":
+                return
+            with open(path, "rb") as f:
+                f.seek(a)
+                left = b - a + 1
                 while left > 0:
                     chunk = f.read(min(left, 1 << 20))
                     if not chunk:
                         break
                     self.wfile.write(chunk)
                     left -= len(chunk)
-            except (BrokenPipeError, ConnectionResetError):  # the browser had enough
-                self.close_connection = True
+        except ConnectionError:  # the browser had enough (reset, broken pipe)
+            self.close_connection = True
 
     def _json(self, data: Any, status: int = 200) -> None:
         self._send(status, json.dumps(data).encode(), "application/json")
