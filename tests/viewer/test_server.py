@@ -432,3 +432,27 @@ def test_cli_view_bad_video_is_one_line(tmp_path):
     assert p.returncode != 0 and p.stdout == "" and "Traceback" not in p.stderr
     assert len(p.stderr.strip().splitlines()) == 1
     assert "not a video file" in p.stderr
+
+
+def test_file_of_a_failed_render_says_it_failed(served):
+    """The file of a render that failed is refused with the render's error, not as a
+    render still running."""
+    from spherewarp.errors import InvalidValueError
+
+    srv, _ = served
+
+    class Failing:  # a recipe that fails as it renders
+        def render(self, image, t=0.0, progress=None):
+            raise InvalidValueError("zoom: factor too large for this image")
+
+    job = srv.start_render(Failing())
+    for _ in range(300):
+        st = json.loads(_req(srv, "GET", f"/api/render/{job}")[1])
+        if st["done"]:
+            break
+        time.sleep(0.1)
+    assert st["error"] == "InvalidValueError: zoom: factor too large for this image"
+    status, data, _ = _req(srv, "GET", f"/api/render/{job}/file")
+    assert status == 422, data
+    assert json.loads(data)["error"] == f"the render failed: {st['error']}"
+    del srv.jobs[job]  # the module's other tests see no jobs

@@ -33,7 +33,8 @@ Routes
     thread (a video: its frame at ``?t=SECONDS``, default the first, and the
     recipe at that time);
     ``{"job": ID}`` out. ``GET /api/render/ID``: ``{"done", "progress",
-    "error"}``; ``GET /api/render/ID/file``: the PNG, as a download.
+    "error"}``; ``GET /api/render/ID/file``: the PNG, as a download (409 while
+    the render runs; 422 with its error for a render that failed).
 
 Security: the ``Host`` header must name the address the server listens on
 (DNS rebinding: 403); an API request with an ``Origin`` (or a cross-site
@@ -839,6 +840,8 @@ class _Handler(BaseHTTPRequestHandler):
                 raise _Error(404, "no such render")
             if len(parts) == 1:
                 return self._json({"done": job.done, "progress": job.progress, "error": job.error})
+            if job.error is not None:  # done, and no file will come
+                raise _Error(422, f"the render failed: {job.error}")
             if job.path is None:
                 raise _Error(409, "the render is not done")
             return self._send(
