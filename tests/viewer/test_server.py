@@ -389,10 +389,17 @@ def test_video_with_range_requests(tmp_path):
             status, data, r = _req(srv, "GET", "/video", headers={"Range": rng})
             assert status == 206 and data == whole[a : b + 1], rng
             assert r.getheader("Content-Range") == f"bytes {a}-{b}/{n}"
-        for bad in (f"bytes={n}-", "bytes=5-2", "bytes=0-1,5-6", "items=0-1", "bytes=x-"):
-            status, data, _ = _req(srv, "GET", "/video", headers={"Range": bad})
+        # one range outside the file: 416, with the file's length
+        for bad in (f"bytes={n}-", f"bytes={n + 10}-{n + 20}", "bytes=-0"):
+            status, data, r = _req(srv, "GET", "/video", headers={"Range": bad})
             assert status == 416, bad
+            assert r.getheader("Content-Range") == f"bytes */{n}"
             assert "do not serve" not in data.decode()
+        # a Range that is not one byte range is ignored (RFC 9110): the whole file
+        for odd in ("junk", "bytes=5-2", "bytes=0-1,5-6", "items=0-1", "bytes=x-", "bytes=+1-2"):
+            status, data, r = _req(srv, "GET", "/video", headers={"Range": odd})
+            assert status == 200 and data == whole, odd
+            assert r.getheader("Content-Range") is None
         for path_ in (
             "/video/../secret.txt",
             "/secret.txt",

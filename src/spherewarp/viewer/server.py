@@ -8,8 +8,9 @@ Routes
     The image the server was started with, as an 8-bit PNG (any input format).
 ``GET /video``
     A video the server was started with, as it is, with HTTP range requests
-    (``Range: bytes=A-B``: 206; outside the file: 416) so that the page's video
-    element can seek.
+    (``Range: bytes=A-B``: 206; outside the file: 416; a ``Range`` that is not one
+    byte range is ignored: 200, the whole file) so that the page's video element
+    can seek.
 ``GET /testpattern``
     The paper's test pattern (:func:`spherewarp.testpattern.make_test_pattern`,
     1024x512), for the page's overlay.
@@ -110,6 +111,8 @@ _VIDEO_TYPES = {
 _LOOPBACK = {"127.0.0.1", "localhost", "::1"}
 #: the addresses that listen on every interface (IPv4, IPv6: both where the system allows)
 _WILDCARD = {"0.0.0.0", "::", ""}
+#: one byte range (RFC 9110 14.1.2): ``bytes=A-B``, ``bytes=A-``, ``bytes=-N``
+_RANGE = re.compile(r"bytes[ \t]*=[ \t]*([0-9]*)-([0-9]*)", re.IGNORECASE)
 #: a Content-Length as HTTP has it: digits only (``int()`` also reads ``+27``, ``2_7``)
 _LENGTH = re.compile(r"[0-9]{1,18}")
 _EMPTY = {"spherewarp": 1, "steps": []}
@@ -302,7 +305,11 @@ def byte_range(header: str | None, size: int) -> tuple[int, int] | None:
     """The first and last byte an HTTP ``Range`` header asks of a file of ``size`` bytes
     (one range: ``bytes=A-B``, ``bytes=A-``, ``bytes=-N``); None for the whole file.
 
-    Raises ValueError for a range it cannot satisfy (416).
+    A header that is not one byte range (another unit, bad syntax, a last byte before
+    the first, several ranges) is ignored, as RFC 9110 (14.2) has it: None, the whole
+    file (200).
+
+    Raises ValueError for one range it cannot satisfy (416).
 
     Examples
     --------
@@ -310,6 +317,8 @@ def byte_range(header: str | None, size: int) -> tuple[int, int] | None:
     ((0, 99), (900, 999), (90, 98))
     >>> byte_range(None, 1000), byte_range("bytes=0-5000", 1000)
     (None, (0, 999))
+    >>> byte_range("junk", 1000), byte_range("bytes=5-2", 1000), byte_range("bytes=0-1,4-5", 9)
+    (None, None, None)
     >>> byte_range("bytes=1000-", 1000)
     Traceback (most recent call last):
     ...
@@ -317,12 +326,12 @@ def byte_range(header: str | None, size: int) -> tuple[int, int] | None:
     """
     if header is None:
         return None
-    unit, _, spec = header.strip().partition("=")
-    first, dash, last = spec.strip().partition("-")
-    ok = unit.strip() == "bytes" and dash and "," not in spec
-    ok = ok and (first.isdigit() or not first) and (last.isdigit() or not last) and (first or last)
-    if not ok:
-        raise ValueError(f"range {header!r} is not one byte range")
+    found = _RANGE.fullmatch(header.strip(" \t"))
+    if found is None or not (found[1] or found[2]):
+        return None  # not one byte range: ignored
+    first, last = found[1], found[2]
+    if first and last and int(last) < int(first):
+        return None  # an invalid range: ignored
     if not first:
         a, b = max(0, size - int(last)), size - 1
     else:
@@ -603,10 +612,11 @@ class ViewerServer:
 
 
 class _Error(Exception):
-    def __init__(self, status: int, message: str) -> None:
+    def __init__(self, status: int, message: str, headers: dict[str, str] | None = None) -> None:
         super().__init__(message)
         self.status = status
         self.message = message
+        self.headers = headers or {}
 
 
 class _Handler(BaseHTTPRequestHandler):
@@ -756,7 +766,7 @@ class _Handler(BaseHTTPRequestHandler):
         try:
             rng = byte_range(self.headers.get("Range"), size)
         except ValueError as exc:
-            raise _Error(416, str(exc)) from None
+            raise _Error(416, str(exc), {"Content-Range": f"bytes */{size}"}) from None
         a, b = rng if rng is not None else (0, size - 1)
         extra = {"Accept-Ranges": "bytes"}
         if rng is not None:
@@ -781,7 +791,8 @@ class _Handler(BaseHTTPRequestHandler):
         self._send(status, json.dumps(data).encode(), "application/json")
 
     def _fail(self, err: _Error) -> None:
-        self._json({"error": err.message}, err.status)
+        body = json.dumps({"error": err.message}).encode()
+        self._send(err.status, body, "application/json", err.headers)
 
     def do_GET(self) -> None:  # noqa: N802
         try:
