@@ -138,25 +138,6 @@ def _status(port: int, host_header: str, connect: str = "127.0.0.1", path: str =
     return _replies(out)[0]
 
 
-def test_every_interface_answers_to_this_machines_names():
-    """--host 0.0.0.0 answers to the loopback names and this machine's own names and
-    addresses, and still refuses any other Host (DNS rebinding)."""
-    try:
-        s = ViewerServer(None, None, host="0.0.0.0")
-    except OSError as exc:  # pragma: no cover - a sandbox without the wildcard address
-        pytest.skip(f"cannot listen on 0.0.0.0: {exc}")
-    try:
-        p = s.port
-        for name in ("127.0.0.1", "localhost", "0.0.0.0", socket.gethostname()):
-            assert _status(p, f"{name}:{p}") == 200, name
-            assert _status(p, f"{name}:{p}", path="/api/state") == 200, name
-        assert {"127.0.0.1", "localhost", socket.gethostname().lower()} <= set(s.host_names)
-        for bad in (f"evil.example:{p}", "evil.example", f"127.0.0.1:{p + 1}", ""):
-            assert _status(p, bad) == 403, bad
-    finally:
-        s.close()
-
-
 def _ipv6_loopback() -> bool:
     if not socket.has_ipv6:
         return False
@@ -166,6 +147,37 @@ def _ipv6_loopback() -> bool:
     except OSError:
         return False
     return True
+
+
+@pytest.mark.parametrize(
+    ("bind", "connect", "names"),
+    [
+        ("0.0.0.0", "127.0.0.1", ["127.0.0.1", "localhost", "0.0.0.0"]),
+        pytest.param(
+            "::",
+            "::1",
+            ["[::1]", "localhost", "[::]"],
+            marks=pytest.mark.skipif(not _ipv6_loopback(), reason="no IPv6 loopback here"),
+        ),
+    ],
+)
+def test_every_interface_answers_to_this_machines_names(bind, connect, names):
+    """--host 0.0.0.0 (or ::) answers to the loopback names and this machine's own names
+    and addresses, and still refuses any other Host (DNS rebinding)."""
+    try:
+        s = ViewerServer(None, None, host=bind)
+    except OSError as exc:  # pragma: no cover - a sandbox without the wildcard address
+        pytest.skip(f"cannot listen on {bind}: {exc}")
+    try:
+        p = s.port
+        for name in [*names, socket.gethostname()]:
+            assert _status(p, f"{name}:{p}", connect) == 200, name
+            assert _status(p, f"{name}:{p}", connect, path="/api/state") == 200, name
+        assert {*names, socket.gethostname().lower()} <= set(s.host_names)
+        for bad in (f"evil.example:{p}", "evil.example", f"127.0.0.1:{p + 1}", ""):
+            assert _status(p, bad, connect) == 403, bad
+    finally:
+        s.close()
 
 
 @pytest.mark.skipif(not _ipv6_loopback(), reason="no IPv6 loopback here")

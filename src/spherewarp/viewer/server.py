@@ -384,15 +384,17 @@ def host_names(host: str) -> list[str]:
     (['127.0.0.1', 'localhost'], ['[::1]', '127.0.0.1', 'localhost'])
     >>> host_names("192.168.1.20"), "localhost" in host_names("0.0.0.0")
     (['192.168.1.20'], True)
+    >>> "[::1]" in host_names("::"), "[::1]" in host_names(""), "[::1]" in host_names("0.0.0.0")
+    (True, False, False)
     """
     host = host.strip("[]").lower()
     names = [host]
     if host in _LOOPBACK or host in _WILDCARD:
         names += ["127.0.0.1", "localhost"]
-    if host in ("::", ""):  # both stacks: IPv6 loopback too
+    if host == "::":  # both stacks: IPv6 loopback too
         names.append("::1")
     if host in _WILDCARD:
-        names += _own_addresses(ipv6=host != "0.0.0.0")
+        names += _own_addresses(ipv6=host == "::")
     out: list[str] = []
     for name in names:
         name = _url_host(name.lower()) if name else name
