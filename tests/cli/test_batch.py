@@ -73,6 +73,15 @@ def test_a_failing_input_is_reported_and_the_others_go_on(workdir, images):
     assert {p.name: digest(p) for p in workdir.iterdir() if p.is_file()} == before
 
 
+def test_a_folder_among_the_inputs_fails_on_its_own(workdir, images):
+    (workdir / "d").mkdir()
+    code, out, err = run(None, "rotate", "a.png", "d", "c.png", "--yaw", "3", "-o", "o/")
+    assert code == 2, err
+    assert err.splitlines()[0] == "spherewarp: error: cannot read 'd': is a directory, " \
+        "expected an image file"
+    assert out.splitlines() == ["wrote o/a-rotate.png", "wrote o/c-rotate.png"]
+
+
 def test_batch_never_overwrites_an_input_or_an_earlier_output(workdir, images):
     # keeping the names in the inputs' own directory would overwrite them
     (workdir / "x").mkdir()

@@ -339,7 +339,7 @@ def input_argument(func: Callable | None = None, *, required: bool = True) -> Ca
             "input",
             nargs=-1,
             required=required,
-            type=click.Path(dir_okay=False, path_type=Path),
+            type=click.Path(path_type=Path),  # a folder fails on its own, as a bad file does
             metavar="INPUT..." if required else "[INPUT...]",
         )(each_input)
 
@@ -364,7 +364,7 @@ def run_inputs(func: Callable, inputs: tuple[Path, ...], kwargs: dict[str, Any])
     :class:`~spherewarp.cli._files.Job` that also knows the batch's other inputs and the
     outputs written so far (so no input is overwritten and no output written twice)."""
     from .. import _signals
-    from ..errors import SpherewarpError
+    from ..errors import ImageFormatError, SpherewarpError
     from . import error_line
     from ._files import Job, new_job
 
@@ -378,16 +378,22 @@ def run_inputs(func: Callable, inputs: tuple[Path, ...], kwargs: dict[str, Any])
             f"-o {output!r}: several inputs need -o DIR/ (a directory, made if missing) or no -o"
         )
     reads = tuple((p, "input") for p in inputs)
+
+    def call(path: Path) -> None:
+        if isinstance(path, Path) and path.is_dir():  # said before its output's name is
+            raise ImageFormatError(f"cannot read '{path}': is a directory, expected an image file")
+        func(input=path, **kwargs)
+
     if len(inputs) == 1:
         new_job(Job(reads=reads))
-        func(input=inputs[0], **kwargs)
+        call(inputs[0])
         return
     written: list[tuple[Path, str]] = []
     failed = 0
     for path in inputs:
         job = new_job(Job(reads=reads, writes=tuple(written)))
         try:
-            func(input=path, **kwargs)
+            call(path)
         except (SpherewarpError, OSError, MemoryError) as exc:
             if _signals.requested() is not None:
                 raise  # interrupted: stop the batch
