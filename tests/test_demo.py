@@ -65,8 +65,9 @@ def test_refuses_to_clobber_and_writes_nothing(tmp_path):
     folder.mkdir()
     third = folder / f"03-{DEMO_EFFECTS[2].name}.png"
     third.write_bytes(b"keep me")
-    with pytest.raises(OutputExistsError, match="overwrite"):
+    with pytest.raises(OutputExistsError, match="overwrite") as err:
         run_demo(folder, size=SIZE, echo=None)
+    assert "pass overwrite=True" in str(err.value) and "pass --overwrite" in err.value.cli_message
     assert sorted(folder.iterdir()) == [third] and third.read_bytes() == b"keep me"
     run_demo(folder, size=SIZE, supersample=1, overwrite=True, echo=None)
     assert read_image(third).pixels.shape == (SIZE[1], SIZE[0], 3)
@@ -117,3 +118,11 @@ def test_picture_is_where_the_demo_says():
 def test_sample_path_unknown():
     with pytest.raises(InvalidValueError):
         sample_path("nope.png")
+
+
+def test_a_folder_that_cannot_be_made_is_one_error(tmp_path):
+    from spherewarp.errors import ImageFormatError
+
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(ImageFormatError, match="cannot make the folder"):
+        run_demo(tmp_path / "file" / "d", size=SIZE, echo=None)

@@ -39,7 +39,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .errors import InvalidValueError, OutputExistsError
+from .errors import ImageFormatError, InvalidValueError, OutputExistsError
 from .maps import Mobius, SphereMap
 
 __all__ = [
@@ -324,9 +324,10 @@ def run_demo(
         existing = [p for p in targets if p.exists() and not _is_ours(p, manifest)]
         if existing:
             more = f" (and {len(existing) - 1} more)" if len(existing) > 1 else ""
+            what = f"'{existing[0]}' exists{more} and is not a file the demo wrote; pass"
             raise OutputExistsError(
-                f"'{existing[0]}' exists{more} and is not a file the demo wrote; pass "
-                "--overwrite (overwrite=True) to replace it, or choose another directory"
+                f"{what} overwrite=True to replace it, or choose another directory",
+                cli=f"{what} --overwrite to replace it, or choose another directory",
             )
 
     src = read_image(sample_path())
@@ -339,7 +340,13 @@ def run_demo(
         output_shape=(h, w),
         supersample=supersample,
     )
-    out_dir.mkdir(parents=True, exist_ok=True)
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:  # a read-only place, a file on the way
+        where = out_dir.resolve().parent
+        raise ImageFormatError(
+            f"cannot make the folder '{out_dir}' (in '{where}'): {exc.strerror or exc}"
+        ) from None
     written = []
     for target, effect in zip(targets, effects, strict=True):
         pixels = effect.render(inputs)
