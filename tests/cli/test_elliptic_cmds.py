@@ -133,6 +133,7 @@ def test_torus_errors(capsys, workdir, pano):
     path, _ = pano
     assert "cells" in fails(capsys, "torus", path, "-o", "t.png", "--cells", "0x2")
     assert ".obj" in fails(capsys, "torus", path, "-o", "t.png", "--mesh", "m.stl")
+    assert "without spaces" in fails(capsys, "torus", path, "-o", "t.png", "--mesh", "m m.obj")
     (workdir / "m.mtl").write_text("")
     assert "exists" in fails(capsys, "torus", path, "-o", "t.png", "--mesh", "m.obj")
     assert not (workdir / "t.png").exists()  # refused before anything was written

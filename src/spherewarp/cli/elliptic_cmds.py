@@ -356,10 +356,12 @@ def torus(
         show_recipe(step, render, input)
         return
     if mesh is not None:
-        if mesh.suffix.lower() != ".obj":
-            raise click.BadParameter(
-                f"expected a file name ending in .obj, got {str(mesh)!r}", param_hint="--mesh"
-            )
+        from ..effects.torus import check_obj_name
+
+        try:
+            check_obj_name(mesh)
+        except InvalidValueError as exc:
+            raise click.BadParameter(str(exc), param_hint="--mesh") from None
     with saving_recipe(step, render, input, save_recipe, dry_run) as dry:
         if not dry:
             _torus(input, render, step, mesh, cxy)

@@ -343,6 +343,29 @@ def torus_mesh(
     return TorusMesh(verts.reshape(-1, 3), normals.reshape(-1, 3), uv.reshape(-1, 2), faces)
 
 
+def check_obj_name(obj_path: str | os.PathLike[str]) -> Path:
+    """The mesh's path, if it can name an OBJ file and its companions: ``.obj`` at the end,
+    and no space in its name (an OBJ file's ``mtllib`` line and an MTL file's ``map_Kd`` split
+    names at spaces, with no quoting).
+
+    Examples
+    --------
+    >>> check_obj_name("my mesh.obj")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    spherewarp.errors.InvalidValueError: expected a mesh file name without spaces ...
+    """
+    obj = Path(obj_path)
+    if obj.suffix.lower() != ".obj":
+        raise InvalidValueError(f"expected a mesh file name ending in .obj, got {str(obj)!r}")
+    if any(ch.isspace() for ch in obj.name):
+        raise InvalidValueError(
+            "expected a mesh file name without spaces (OBJ and MTL files split names at them), "
+            f"got {obj.name!r}"
+        )
+    return obj
+
+
 def write_torus_obj(
     obj_path: str | os.PathLike[str],
     texture: NDArray,
@@ -374,9 +397,7 @@ def write_torus_obj(
     from ..io import write_image
     from ..io.atomic import write_text
 
-    obj = Path(obj_path)
-    if obj.suffix.lower() != ".obj":
-        raise InvalidValueError(f"expected a mesh file name ending in .obj, got {str(obj)!r}")
+    obj = check_obj_name(obj_path)
     mtl = obj.with_suffix(".mtl")
     png = obj.with_name(obj.stem + "_texture.png")
     if not overwrite:
