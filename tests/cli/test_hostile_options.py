@@ -102,3 +102,13 @@ def test_a_warning_quoting_a_traceback_stays_one_line(tmp_path, monkeypatch):
     code, _, err = run(None, "rotate", sample_path(), *args)
     assert code == 0 and "NUMBA_NUM_THREADS" in err
     assert "Traceback" not in err and "File " not in err and err.count("\n") == 1
+
+
+def test_peirce_size_is_a_square(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    for size in ("1x1", "300x100"):
+        err = fails(None, "peirce", sample_path(), "--size", size, "-o", "p.png")
+        assert "--size" in err and "square" in err
+    ok(None, "peirce", sample_path(), "--size", "64", "-o", "a.png")
+    ok(None, "peirce", sample_path(), "--size", "64x64", "-o", "b.png")
+    assert (tmp_path / "a.png").read_bytes() == (tmp_path / "b.png").read_bytes()

@@ -278,6 +278,13 @@ def peirce(
         return
     from ._common import load_input
 
+    if render.size is not None:  # a square picture: --size N (read as N x N/2) or N x N
+        w, h = render.size
+        if h not in (w, w // 2) or not 2 <= w <= 32768:
+            raise click.BadParameter(
+                f"expected a square of 2 to 32768 pixels a side (--size N), got {w}x{h}",
+                param_hint="--size",
+            )
     with saving_recipe(step, render, input, save_recipe, dry_run) as dry:
         if dry:
             return
