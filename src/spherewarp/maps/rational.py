@@ -484,9 +484,15 @@ def fit_rational(
                 continue
             lower = next((k for k in range(1, n) if _smallest_rel(zin, zout, k) < KERNEL_REL), None)
             where = f" (it looks like degree {lower})" if lower else ""
+            # the monomial basis in double precision: from about degree 50, a map of the
+            # full degree can look lower (z**57 looked like degree 56)
+            maybe = (
+                f", or degree {n} is more than double precision tells apart on these samples"
+                if n > 40 else ""
+            )  # fmt: skip
             raise InvalidValueError(
-                f"the map has a degree lower than {n}{where}: the kernel is not one-dimensional; "
-                "give a smaller degree or none to detect it"
+                f"the map has a degree lower than {n}{where}{maybe}: the kernel is not "
+                "one-dimensional; give a smaller degree or none to detect it"
             )
         x = np.conj(vh[-1])
         num, den = x[: n + 1] * scale, x[n + 1 :] * scale
