@@ -46,7 +46,7 @@ from .recipe_cmds import print_options, recipe_options, saving_recipe
     help="INPUT is a picture in this grid (a cube map, a little planet, a fisheye): take "
     "it back to an equirectangular panorama, transparent where the picture does not reach "
     "(--look-at, --roll, --fov: those it was made with; --size: the panorama's, default "
-    "twice as wide as INPUT is high).",
+    "twice as wide as INPUT is high, or as a cube map's face).",
 )
 @click.option(
     "--look-at",
