@@ -132,6 +132,12 @@ def test_resume_refuses_another_render(clip):
     assert not Path("x.mp4").exists()
 
 
+def test_a_video_into_a_missing_folder_is_refused_as_a_still_is(clip):
+    err = fails(None, "video", clip.name, "-o", "no/x.mp4", "--quiet", *ROTATE)
+    assert "cannot write 'no/x.mp4': directory 'no' does not exist" in err
+    assert not Path("no").exists()
+
+
 def test_progress_json_lines(clip):
     code, _, err = run(None, "video", clip.name, "-o", "p.mp4", "--segment", SEG,
                        "--progress", "json", *ROTATE)  # fmt: skip

@@ -439,8 +439,8 @@ class _Folder:
     def make(self) -> None:
         if self.url:
             remote.make_folder(self.where)
-        else:
-            self.where.mkdir(parents=True, exist_ok=True)
+        else:  # beside the output, in its folder: a missing folder is refused, as for a still
+            self.where.mkdir(exist_ok=True)
 
     def names(self) -> list[str] | None:
         """The names of what the folder holds; None when nothing is there.
