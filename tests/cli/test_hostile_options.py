@@ -29,6 +29,7 @@ from spherewarp.demo import sample_path
         (["power", "--n", "0.5", "--cut", "nan"], "'--cut'"),
         (["exp", "--lam", "1e308"], "lam of at most 1e+06"),
         (["project", "--to", "cubemap", "--size", "5x3"], "--size WxH sets an output's size"),
+        (["project", "--from", "cubemap", "--fov", "90"], "--fov does not apply to cubemap"),
     ],
 )
 def test_extreme_values_give_one_error_line(tmp_path, monkeypatch, args, needle):

@@ -41,6 +41,8 @@ def test_pixel_limit_order(monkeypatch):
         monkeypatch.setenv("SPHEREWARP_MAX_PIXELS", bad)
         with pytest.raises(InvalidValueError, match="SPHEREWARP_MAX_PIXELS"):
             pixel_limit()
+    monkeypatch.setenv("SPHEREWARP_MAX_PIXELS", str(2**63 - 1))  # beyond any image: no error
+    assert pixel_limit() == 2**62
     with pytest.raises(InvalidTypeError):
         pixel_limit(2.5)  # type: ignore[arg-type]
     with pytest.raises(InvalidValueError):

@@ -178,8 +178,10 @@ def test_fit_refuses_maps_that_are_not_rational(func):
 def test_fit_refuses_the_wrong_degree():
     with pytest.raises(InvalidValueError, match="degree 2"):  # a degree-3 map
         fit_rational(lambda z: z**3 + 1, degree=2)
-    with pytest.raises(InvalidValueError, match=r"lower than 5 \(it looks like degree 3\)"):
+    with pytest.raises(InvalidValueError, match=r"lower than 5 \(it looks like degree 3\):"):
         fit_rational(lambda z: z**3 + 1, degree=5)
+    with pytest.raises(InvalidValueError, match="more than double precision tells apart"):
+        fit_rational(lambda z: z**57, degree=57)  # the monomial basis's limit, said as such
 
 
 def test_fit_input_errors():
