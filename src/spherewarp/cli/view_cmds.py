@@ -13,12 +13,6 @@ from ._common import example
 __all__ = ["view"]
 
 
-def _where(host: str, port: int) -> str:
-    """``host:port``, an IPv6 address in brackets."""
-    host = host.strip("[]")
-    return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
-
-
 def _port_problem(exc: OSError) -> bool:
     """Whether a failure to listen is the port's (in use, or not this user's to take);
     otherwise it is the host's (no such name, not an address of this machine, an
@@ -81,7 +75,7 @@ def view(
     render it at full resolution with the Python renderer. Ctrl-C stops.
     """
     from ..errors import ImageFormatError
-    from ..viewer.server import ViewerServer
+    from ..viewer.server import ViewerServer, is_loopback, url_host
 
     try:
         srv = ViewerServer(image, recipe, masks=masks, host=host, port=port)
@@ -89,10 +83,10 @@ def view(
         raise
     except OSError as exc:
         raise click.BadParameter(
-            f"cannot listen on {_where(host, port)}: {exc.strerror or exc}",
+            f"cannot listen on {url_host(host.strip('[]'))}:{port}: {exc.strerror or exc}",
             param_hint="'--port'" if _port_problem(exc) else "'--host'",
         ) from None
-    if srv.host not in ("127.0.0.1", "localhost", "::1"):
+    if not is_loopback(srv.host):
         click.echo(
             f"spherewarp: warning: listening on {srv.host}, not loopback: other machines can "
             f"reach this page; it answers to the host names {', '.join(srv.host_names)} "

@@ -91,8 +91,10 @@ __all__ = [
     "ViewerServer",
     "byte_range",
     "host_names",
+    "is_loopback",
     "packed_stages",
     "steps_at",
+    "url_host",
     "video_frame",
 ]
 
@@ -341,8 +343,14 @@ def byte_range(header: str | None, size: int) -> tuple[int, int] | None:
     return a, b
 
 
-def _url_host(address: str) -> str:
-    """An address or name as a URL's host: an IPv6 address in brackets."""
+def url_host(address: str) -> str:
+    """An address or name as a URL's host: an IPv6 address in brackets.
+
+    Examples
+    --------
+    >>> url_host("::1"), url_host("127.0.0.1")
+    ('[::1]', '127.0.0.1')
+    """
     return f"[{address}]" if ":" in address else address
 
 
@@ -369,6 +377,12 @@ def _own_addresses(ipv6: bool) -> list[str]:
     return [n for n in names if n and "%" not in n]  # no link-local zone ids
 
 
+def is_loopback(host: str) -> bool:
+    """Whether ``host`` (an IPv6 address with or without brackets) is this machine's loopback,
+    which other machines cannot reach."""
+    return host.strip("[]").lower() in _LOOPBACK
+
+
 def host_names(host: str) -> list[str]:
     """The names a server listening on ``host`` answers to (in its requests' ``Host``
     header, with the port); any other is refused, against DNS rebinding.
@@ -389,7 +403,7 @@ def host_names(host: str) -> list[str]:
     """
     host = host.strip("[]").lower()
     names = [host]
-    if host in _LOOPBACK or host in _WILDCARD:
+    if is_loopback(host) or host in _WILDCARD:
         names += ["127.0.0.1", "localhost"]
     if host == "::":  # both stacks: IPv6 loopback too
         names.append("::1")
@@ -397,7 +411,7 @@ def host_names(host: str) -> list[str]:
         names += _own_addresses(ipv6=host == "::")
     out: list[str] = []
     for name in names:
-        name = _url_host(name.lower()) if name else name
+        name = url_host(name.lower()) if name else name
         if name and name not in out:
             out.append(name)
     return out
@@ -535,7 +549,7 @@ class ViewerServer:
         self.host_names = host_names(host)
         self.allowed_hosts = {f"{h}:{self.port}" for h in self.host_names}
         self.origins = {f"http://{h}" for h in self.allowed_hosts}
-        self.url = f"http://{_url_host(host)}:{self.port}/"
+        self.url = f"http://{url_host(host)}:{self.port}/"
         self._thread = threading.Thread(target=self.httpd.serve_forever, daemon=True)
         self._thread.start()
 
