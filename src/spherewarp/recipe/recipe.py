@@ -212,9 +212,9 @@ class Recipe:
     @classmethod
     def loads(cls, text: str | bytes, base: str | os.PathLike[str] | None = None) -> Recipe:
         """Parse and validate recipe JSON text (at most :data:`MAX_BYTES`, as UTF-8)."""
-        size = len(text) if isinstance(text, bytes) or len(text) * 4 <= MAX_BYTES else len(
-            text.encode("utf-8", "surrogatepass")
-        )  # a str: its UTF-8 bytes (up to 4 a character), counted only where it may matter
+        size = len(text)
+        if isinstance(text, str) and MAX_BYTES < size * 4 and size <= MAX_BYTES:
+            size = len(text.encode("utf-8", "surrogatepass"))  # up to 4 bytes a character
         if size > MAX_BYTES:
             raise RecipeError(
                 "", f"expected a recipe of at most {MAX_BYTES} bytes, got {size} bytes"
@@ -484,14 +484,8 @@ class Recipe:
             err = RecipeError("view", str(exc))
             err.cli_detail = exc.cli_message  # what a command's own --fov, --size got wrong
             raise err from None
-        options = data.get("options", {})
-        self._warp_kwargs, self._background = _parse_options(options, self._steps)
-        self._tonemap = None if options.get("tonemap") is None else _TONEMAP.parse_plain(
-            options["tonemap"], "options.tonemap"
-        )
-        self._exposure = None if options.get("exposure") is None else _EXPOSURE.parse_plain(
-            options["exposure"], "options.exposure"
-        )
+        self._warp_kwargs, writing = _parse_options(data.get("options", {}), self._steps)
+        self._background, self._tonemap, self._exposure = writing
         if self._view.get("size") is not None:
             w, h = self._view["size"]
             self._warp_kwargs["output_shape"] = (h, w)
@@ -614,7 +608,11 @@ def view_grid(view: dict[str, Any], in_shape: tuple[int, ...]) -> Any:
     )
 
 
-def _parse_options(options: Any, steps: tuple[Step, ...]) -> tuple[dict[str, Any], str | None]:
+def _parse_options(
+    options: Any, steps: tuple[Step, ...]
+) -> tuple[dict[str, Any], tuple[str | None, str | None, float | None]]:
+    """``warp``'s keyword arguments, and how the file is written: ``(background, tonemap,
+    exposure)``, each None where the recipe leaves it to the command."""
     if not isinstance(options, dict):
         raise RecipeError("options", f"expected an object, got {describe(options)}")
     known = ("interp", "supersample", "antialias", "background", "tonemap", "exposure")
@@ -658,7 +656,12 @@ def _parse_options(options: Any, steps: tuple[Step, ...]) -> tuple[dict[str, Any
             parse_color(background)
         except InvalidValueError as exc:
             raise RecipeError("options.background", str(exc)) from None
-    return kwargs, background
+    tonemap, exposure = options.get("tonemap"), options.get("exposure")
+    if tonemap is not None:
+        tonemap = _TONEMAP.parse_plain(tonemap, "options.tonemap")
+    if exposure is not None:
+        exposure = _EXPOSURE.parse_plain(exposure, "options.exposure")
+    return kwargs, (background, tonemap, exposure)
 
 
 def _refuse_constant(name: str) -> Any:
