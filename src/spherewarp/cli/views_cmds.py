@@ -142,13 +142,11 @@ def _project_from(input: Path, render: RenderOptions, name: str) -> None:
     output_path(render, input, "equirect")  # refuse a bad -o before reading
     src = read_image(input, max_pixels=render.max_pixels)
     h, w = src.pixels.shape[:2]
+    view = {"look_at": render.view_at, "roll": render.view_roll, "fov": render.fov}
+    make_grid(name, (1024, 2048), **view)  # the options' own checks, naming the options
     try:
-        grid = make_grid(
-            name, shape=(h, w), look_at=render.view_at, roll=render.view_roll, fov=render.fov
-        )
-    except InvalidValueError as exc:  # the input is not such a picture: name it
-        if "--fov" in exc.cli_message or "--look-at" in exc.cli_message:
-            raise
+        grid = make_grid(name, shape=(h, w), **view)
+    except InvalidValueError as exc:  # then the input is not such a picture: name it
         raise InvalidValueError(f"'{input}': {exc}") from None
     face = getattr(grid, "face", None)  # a cube map: a panorama as tall as a face
     size = (2 * h, h) if face is None else (2 * face, face)
