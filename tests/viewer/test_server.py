@@ -227,7 +227,7 @@ def test_render_job(served):
         if st["done"]:
             break
         time.sleep(0.1)
-    assert st["done"] and st["error"] is None and st["progress"] == 1.0
+    assert st["started"] and st["done"] and st["error"] is None and st["progress"] == 1.0
     status, data, r = _req(srv, "GET", f"/api/render/{job}/file")
     assert status == 200 and "attachment" in r.getheader("Content-Disposition")
     assert data[:4] == b"\x89PNG"
@@ -463,3 +463,97 @@ def test_file_of_a_failed_render_says_it_failed(served):
     assert status == 422, data
     assert json.loads(data)["error"] == f"the render failed: {st['error']}"
     del srv.jobs[job]  # the module's other tests see no jobs
+
+
+class _Held:
+    """A recipe whose render waits for ``gate`` (to hold the render worker)."""
+
+    def __init__(self, gate=None):
+        self.gate = gate
+
+    def render(self, image, t=0.0, progress=None):
+        if self.gate is not None:
+            assert self.gate.wait(30)
+        return np.zeros((4, 8, 3), np.uint8)
+
+
+def _wait_done(srv, key):
+    for _ in range(300):
+        if srv.jobs[key].done:
+            return
+        time.sleep(0.05)
+    raise AssertionError("the render did not finish")
+
+
+@pytest.fixture()
+def own_server(tmp_path):
+    img = tmp_path / "pano.png"
+    Image.fromarray(np.zeros((32, 64, 3), np.uint8)).save(img)
+    srv = ViewerServer(img, None)
+    yield srv
+    srv.close()
+
+
+def test_renders_queue_and_a_full_queue_is_refused(own_server):
+    """Renders run one at a time; past MAX_QUEUED waiting ones a new one gets 429 (the
+    page may not start 50 full-resolution renders at once), and once they are done
+    the next is taken."""
+    import threading
+
+    from spherewarp.viewer import server
+
+    srv = own_server
+    gate = threading.Event()
+    first = srv.start_render(_Held(gate))
+    for _ in range(100):  # the worker took it: it runs, the rest wait
+        if srv.jobs[first].started:
+            break
+        time.sleep(0.02)
+    waiting = [srv.start_render(_Held(gate)) for _ in range(server.MAX_QUEUED)]
+    assert srv.jobs[first].started and not any(srv.jobs[k].started for k in waiting)
+    recipe = {"spherewarp": 1, "steps": [{"zoom": {"at": [0, 0], "factor": 2}}]}
+    status, data, r = _req(srv, "POST", "/api/render", json.dumps(recipe).encode())
+    assert status == 429 and r.getheader("Retry-After") == "5"
+    assert "renders are waiting" in json.loads(data)["error"]
+    assert len(srv.jobs) == 1 + server.MAX_QUEUED
+    gate.set()
+    for k in [first, *waiting]:
+        _wait_done(srv, k)
+        assert srv.jobs[k].error is None and srv.jobs[k].path.is_file()
+    status, data, _ = _req(srv, "POST", "/api/render", json.dumps(recipe).encode())
+    assert status == 200
+
+
+def test_old_renders_and_their_files_are_forgotten(own_server, monkeypatch):
+    """Only MAX_JOBS renders are kept: the oldest finished one goes, with its file,
+    so a long session's server does not grow without end."""
+    from spherewarp.viewer import server
+
+    monkeypatch.setattr(server, "MAX_JOBS", 2)
+    srv = own_server
+    keys = []
+    for _ in range(3):
+        keys.append(srv.start_render(_Held()))
+        _wait_done(srv, keys[-1])
+    files = sorted(srv.tmp.iterdir())
+    assert list(srv.jobs) == keys[1:]
+    assert files == sorted(srv.jobs[k].path for k in keys[1:])
+    assert _req(srv, "GET", f"/api/render/{keys[0]}/file")[0] == 404
+    assert _req(srv, "GET", f"/api/render/{keys[2]}/file")[0] == 200
+
+
+def test_an_unexpected_error_is_a_500_and_one_line(own_server, monkeypatch, capfd):
+    """A bug in a handler answers 500 with a JSON error (not a connection dropped
+    without a reply) and says one line on stderr, no traceback."""
+    srv = own_server
+
+    def broken(self):
+        raise KeyError("oops")
+
+    monkeypatch.setattr(ViewerServer, "state", broken)
+    status, data, r = _req(srv, "GET", "/api/state")
+    assert status == 500 and r.getheader("Connection") == "close"
+    assert json.loads(data) == {"error": "internal error: KeyError"}
+    err = capfd.readouterr().err
+    assert err.count("\n") == 1 and "KeyError: 'oops'" in err and "Traceback" not in err
+    assert _req(srv, "GET", "/image")[0] == 200  # and it goes on serving

@@ -1007,7 +1007,8 @@ function wireButtons() {
         const st = await (await fetch(`api/render/${job}`)).json();
         if (st.error) return status(`render: ${st.error}`, true);
         if (!st.done) {
-          status(`rendering ${(100 * st.progress).toFixed(0)}%`);
+          status(st.started ? `rendering ${(100 * st.progress).toFixed(0)}%`
+                            : "waiting for an earlier render");
           return setTimeout(poll, 300);
         }
         status("rendered: downloading");

@@ -68,6 +68,7 @@ import io
 import json
 import mimetypes
 import os
+import queue
 import re
 import shutil
 import socket
@@ -86,8 +87,11 @@ import numpy as np
 
 __all__ = [
     "MAX_BODY",
+    "MAX_JOBS",
+    "MAX_QUEUED",
     "STATIC_DIR",
     "LabelCache",
+    "RenderQueueFull",
     "ViewerServer",
     "byte_range",
     "host_names",
@@ -118,6 +122,10 @@ _RANGE = re.compile(r"bytes[ \t]*=[ \t]*([0-9]*)-([0-9]*)", re.IGNORECASE)
 #: a Content-Length as HTTP has it: digits only (``int()`` also reads ``+27``, ``2_7``)
 _LENGTH = re.compile(r"[0-9]{1,18}")
 _EMPTY = {"spherewarp": 1, "steps": []}
+#: full-resolution renders kept (beyond it the oldest finished one goes, with its file)
+MAX_JOBS = 16
+#: renders waiting for the one that runs, beyond which a new one is refused (429)
+MAX_QUEUED = 4
 
 
 def packed_stages(
@@ -471,9 +479,14 @@ def _server(host: str, port: int) -> _Server:
 class _Job:
     def __init__(self) -> None:
         self.progress = 0.0
+        self.started = False
         self.done = False
         self.error: str | None = None
         self.path: Path | None = None
+
+
+class RenderQueueFull(RuntimeError):
+    """:data:`MAX_QUEUED` renders already wait: the page should try again later."""
 
 
 class ViewerServer:
@@ -535,7 +548,12 @@ class ViewerServer:
         self.base = self.recipe.base
         #: the only files a posted recipe may name: the starting recipe's, and ``masks``
         self.files = frozenset([*(Path(m).resolve() for m in masks), *recipe_files(self.recipe)])
+        #: full-resolution renders by key, oldest first (at most :data:`MAX_JOBS`)
         self.jobs: dict[str, _Job] = {}
+        self._jobs_lock = threading.Lock()
+        # renders run one at a time, in one worker (each one uses every core already)
+        self._queue: queue.SimpleQueue[Any] = queue.SimpleQueue()
+        threading.Thread(target=self._render_worker, daemon=True).start()
         self.labels = LabelCache()  # masked Schottky labels by key (/api/labels/KEY)
         self._pattern: bytes | None = None
         host = host.strip("[]")  # an IPv6 address as in a URL: [::1]
@@ -555,6 +573,7 @@ class ViewerServer:
 
     def close(self) -> None:
         """Stop serving and remove the rendered files."""
+        self._queue.put(None)  # the render worker stops after the render it is on
         self.httpd.shutdown()
         self.httpd.server_close()
         shutil.rmtree(self.tmp, ignore_errors=True)
@@ -592,39 +611,65 @@ class ViewerServer:
         }
 
     def start_render(self, recipe: Any, t: float | None = None) -> str:
-        """Render ``recipe`` at full resolution in a thread (a video: its frame at time
-        ``t``, default the first); returns the job's key."""
+        """Render ``recipe`` at full resolution (a video: its frame at time ``t``, default
+        the first); returns the job's key.
+
+        Renders run one at a time, in the order asked; :data:`MAX_JOBS` are kept (the
+        oldest finished one goes, with its file, when a new one comes).
+
+        Raises
+        ------
+        RenderQueueFull
+            If :data:`MAX_QUEUED` renders already wait.
+        """
         job = _Job()
         key = uuid.uuid4().hex
-        self.jobs[key] = job
+        with self._jobs_lock:
+            if sum(not j.started for j in self.jobs.values()) >= MAX_QUEUED:
+                raise RenderQueueFull(f"{MAX_QUEUED} renders are waiting already")
+            self.jobs[key] = job
+            self._prune()
+        self._queue.put((key, job, recipe, t))
+        return key
+
+    def _prune(self) -> None:
+        """Forget the oldest finished renders, and remove their files, beyond
+        :data:`MAX_JOBS` (called with the jobs' lock held)."""
+        extra = len(self.jobs) - MAX_JOBS
+        for key in [k for k, j in self.jobs.items() if j.done][: max(extra, 0)]:
+            gone = self.jobs.pop(key)
+            if gone.path is not None:
+                gone.path.unlink(missing_ok=True)
+
+    def _render_worker(self) -> None:
+        while (item := self._queue.get()) is not None:
+            self._render(*item)
+
+    def _render(self, key: str, job: _Job, recipe: Any, t: float | None) -> None:
+        from ..io.images import write_image
 
         def progress(done: float, total: float | None = None) -> None:
             job.progress = float(done) / float(total) if total else float(done)
 
-        def work() -> None:
-            from ..io.images import write_image
-
+        job.started = True
+        try:
+            image = self.image
+            if self.video and t is not None:
+                image = video_frame(self.image_path, t)
+            when = 0.0 if t is None else t  # a video's time is the recipe's
             try:
-                image = self.image
-                if self.video and t is not None:
-                    image = video_frame(self.image_path, t)
-                when = 0.0 if t is None else t  # a video's time is the recipe's
-                try:
-                    out = recipe.render(image, t=when, progress=progress)
-                except TypeError:  # a renderer without progress reporting
-                    out = recipe.render(image, t=when)
-                pixels = getattr(out, "pixels", out)
-                path = self.tmp / f"{self.image_path.stem}-{key[:8]}.png"
-                write_image(path, pixels, gpano=None)
-                job.path = path
-                job.progress = 1.0
-            except Exception as exc:  # reported to the page, not raised in a thread
-                job.error = f"{type(exc).__name__}: {exc}"
-            finally:
-                job.done = True
-
-        threading.Thread(target=work, daemon=True).start()
-        return key
+                out = recipe.render(image, t=when, progress=progress)
+            except TypeError:  # a renderer without progress reporting
+                out = recipe.render(image, t=when)
+            pixels = getattr(out, "pixels", out)
+            path = self.tmp / f"{self.image_path.stem}-{key[:8]}.png"
+            write_image(path, pixels, gpano=None)
+            job.path = path
+            job.progress = 1.0
+        except Exception as exc:  # reported to the page, not raised in a thread
+            job.error = f"{type(exc).__name__}: {exc}"
+        finally:
+            job.done = True
 
 
 class _Error(Exception):
@@ -639,6 +684,7 @@ class _Handler(BaseHTTPRequestHandler):
     server_version = "spherewarp-view"
     protocol_version = "HTTP/1.1"
     _body_read = False  # whether the request's body was read (set by _begin, _body)
+    _replied = False  # whether the reply's status line went out (set by _serve, _head)
 
     @property
     def viewer(self) -> ViewerServer:
@@ -755,6 +801,7 @@ class _Handler(BaseHTTPRequestHandler):
         """The status line and headers. An error reply, or a reply to a request whose body
         was not read, ends the connection (``Connection: close``): what is left of the
         request is never read as the next one."""
+        self._replied = True
         self.send_response(status)
         self.send_header("Content-Type", ctype)
         self.send_header("Content-Length", str(length))
@@ -810,20 +857,35 @@ class _Handler(BaseHTTPRequestHandler):
         body = json.dumps({"error": err.message}).encode()
         self._send(err.status, body, "application/json", err.headers)
 
-    def do_GET(self) -> None:  # noqa: N802
+    def _serve(self, work: Any) -> None:
+        """Run ``work`` on a request: a refusal (:class:`_Error`) is its status and
+        message; anything else unexpected is one line on stderr and a 500 (or, past the
+        headers, the connection's end), never a dropped connection without a reply."""
+        self._replied = False
         try:
             self._begin()
+            work()
+        except _Error as err:
+            self._fail(err)
+        except Exception as exc:
+            self.server.handle_error(self.request, self.client_address)
+            if self._replied:  # part of a reply went out: nothing else can follow
+                self.close_connection = True
+            else:
+                self._fail(_Error(500, f"internal error: {type(exc).__name__}"))
+
+    def do_GET(self) -> None:  # noqa: N802
+        def work() -> None:
             path = self._path()
             self._check_common(path.startswith("/api/"))
             self._get(path)
-        except _Error as err:
-            self._fail(err)
+
+        self._serve(work)
 
     do_HEAD = do_GET
 
     def do_POST(self) -> None:  # noqa: N802
-        try:
-            self._begin()
+        def work() -> None:
             path = self._path()
             self._check_common(True)
             if path == "/api/stages":
@@ -833,15 +895,21 @@ class _Handler(BaseHTTPRequestHandler):
                     reply = {"stages": packed_stages(recipe, t, labels=self.viewer.labels)}
                     if recipe.animated:  # where its marks are at that time
                         reply["at"] = steps_at(recipe, t)
-                    self._json(reply)
                 except Exception as exc:
                     raise _Error(400, f"recipe: {exc}") from None
+                self._json(reply)
             elif path == "/api/render":
-                self._json({"job": self.viewer.start_render(self._recipe(), self._time())})
+                recipe, t = self._recipe(), self._time()
+                try:
+                    key = self.viewer.start_render(recipe, t)
+                except RenderQueueFull as exc:
+                    raise _Error(429, f"{exc}: try again when one is done",
+                                 {"Retry-After": "5"}) from None  # fmt: skip
+                self._json({"job": key})
             else:
                 raise _Error(404, "not found")
-        except _Error as err:
-            self._fail(err)
+
+        self._serve(work)
 
     def _get(self, path: str) -> None:
         v = self.viewer
@@ -866,14 +934,19 @@ class _Handler(BaseHTTPRequestHandler):
             if job is None or len(parts) > 2 or (len(parts) == 2 and parts[1] != "file"):
                 raise _Error(404, "no such render")
             if len(parts) == 1:
-                return self._json({"done": job.done, "progress": job.progress, "error": job.error})
+                return self._json({"started": job.started, "done": job.done,
+                                   "progress": job.progress, "error": job.error})  # fmt: skip
             if job.error is not None:  # done, and no file will come
                 raise _Error(422, f"the render failed: {job.error}")
             if job.path is None:
                 raise _Error(409, "the render is not done")
+            try:
+                data = job.path.read_bytes()
+            except FileNotFoundError:  # forgotten (MAX_JOBS) since it was looked up
+                raise _Error(404, "no such render") from None
             return self._send(
                 200,
-                job.path.read_bytes(),
+                data,
                 "image/png",
                 {"Content-Disposition": f'attachment; filename="{job.path.name}"'},
             )
