@@ -132,6 +132,7 @@ def test_log_view_and_inside_images(capsys, pattern, workdir) -> None:
         (("--frame", *FRAME, "--inside", "in.png", "--twist"), "divide the strands"),
         (("--center", "0,0", "--inner-radius", "200"), "radius"),
         (("--frame", *FRAME, "-o", "out.xyz"), "extension"),
+        (("--frame", *FRAME, "--view", "log", "--size", "100x1"), "--size: a Droste log view"),
     ],
 )
 def test_bad_input_is_one_line(capsys, pattern, workdir, args, needle) -> None:

@@ -63,6 +63,19 @@ def test_lattes_and_droste_steps():
     assert d == dr.droste_map(dr.hole_from_radius((0, 0), 20), 4.0)
 
 
+def test_droste_log_view_height_is_checked_at_load():
+    """A log view's height out of log_view's bounds is refused when the recipe is read,
+    naming view.size (a command's --size), not at render time as a bare 'height'."""
+    from spherewarp.recipe import Recipe, RecipeError
+
+    step = {"droste": {"center": [0, 0], "inner_radius": 20, "scale": 4, "view": "log"}}
+    with pytest.raises(RecipeError) as info:
+        Recipe.from_dict({"spherewarp": 1, "steps": [step], "view": {"size": [100, 1]}})
+    assert str(info.value) == "view.size: a Droste log view is 8 to 16384 pixels high, got 1"
+    assert info.value.cli_detail.startswith("--size: ")
+    Recipe.from_dict({"spherewarp": 1, "steps": [step], "view": {"size": [100, 8]}})
+
+
 def test_steps_compose_in_order():
     r = recipe({"rotate": {"yaw": 30}}, {"zoom": {"at": [0, 0], "factor": 2}})
     first = Mobius.from_yaw_pitch_roll(30, 0, 0)

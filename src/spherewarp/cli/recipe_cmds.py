@@ -108,7 +108,7 @@ def command_recipe(data: dict[str, Any], base: Path | None = None) -> Any:
     try:
         return Recipe.from_dict(data, base=base)
     except RecipeError as exc:
-        if exc.path == "view":  # the command's own view options
+        if exc.path == "view" or exc.path.startswith("view."):  # the command's view options
             raise InvalidValueError(exc.cli_detail) from None
         m = re.match(r"steps\[0\]\.[a-z]+(?:\.([a-z_]+))?(.*)$", exc.path)
         if m is None:

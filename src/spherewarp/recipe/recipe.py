@@ -509,6 +509,13 @@ def _check_whole_steps(recipe: Recipe, data: dict[str, Any]) -> None:
                 f"recipe's only step, got {len(recipe.steps)} steps",
             )
         n = max(n, effect.inputs(values))
+        size = recipe._view.get("size")
+        if s.effect == "droste" and values.get("view", "equirect") != "equirect" and size:
+            if not 8 <= size[1] <= 16384:  # log_view's own bounds, checked at the start
+                msg = f"a Droste log view is 8 to 16384 pixels high, got {size[1]}"
+                err = RecipeError("view.size", msg)
+                err.cli_detail = f"--size: {msg}"  # a command's own --size
+                raise err
         if effect.flat(values) and any(
             recipe._view.get(v) for v in ("projection", "look_at", "roll", "fov")
         ):
