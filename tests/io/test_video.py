@@ -580,3 +580,23 @@ def test_frames_from_a_frame_are_those_of_a_whole_decode(tmp_path, suffix):
         assert all(np.array_equal(a, b) for (_, a), (_, b) in zip(got, whole[k:], strict=True)), k
     for c in opened:
         c.close()
+
+
+def test_render_video_keeps_frame_times_exactly(tmp_path):
+    """A first frame at 1/12 s (MPEG-TS) or 1001/15000 s came back at 0.083 s or 0.066 s:
+    the MP4's edit list was in the default movie time scale of 1/1000 s."""
+    from fractions import Fraction
+
+    import av
+
+    def times(path):
+        with av.open(str(path)) as c:
+            v = c.streams.video[0]
+            return sorted(Fraction(p.pts) * p.time_base for p in c.demux(v) if p.size)
+
+    for name, rate in (("late", None), ("ntsc", Fraction(30000, 1001))):
+        src = tmp_path / f"{name}.ts"
+        make_clip(src, frames=6, gop=3, **({} if rate is None else {"rate": rate}))
+        out = tmp_path / f"{name}.mp4"
+        render_video(src, out, lambda t: (Mobius.from_yaw_pitch_roll(30, 0, 0), {}))
+        assert times(out) == times(src) and times(src)[0] > 0

@@ -778,7 +778,11 @@ def render_video(
     with atomic_file(output, overwrite=overwrite) as tmp:
         src = _open(input)
         try:
-            dst = av.open(str(tmp), "w", format=muxer(output))
+            from .segments import mux_options  # the frames' times exactly, not in 1/1000 s
+
+            fmt = muxer(output)
+            options = mux_options(fmt, Fraction(src.streams.video[0].time_base))
+            dst = av.open(str(tmp), "w", format=fmt, options=options)
             try:
                 _transcode(
                     src, dst, s.info, s.codec, s.out_pix, s.rgb, s.options, frame_map, progress,
