@@ -73,6 +73,11 @@ def test_exp_supersamples_by_default(capsys, workdir, png, image):
     assert np.array_equal(read_image(workdir / "e.png").pixels, expected)
     ok(capsys, "exp", png, "--supersample", "1", "-o", "e1.png")
     assert np.array_equal(read_image(workdir / "e1.png").pixels, warp(image, ExpMap(4)))
+    # --antialias chooses the filter too: the default supersampling must not hide it
+    ok(capsys, "exp", png, "--antialias", "none", "-o", "e2.png")
+    expected = warp(image, ExpMap(4), antialias="none")
+    assert np.array_equal(read_image(workdir / "e2.png").pixels, expected)
+    assert not np.array_equal(expected, warp(image, ExpMap(4), supersample=3))
 
 
 def test_map(capsys, workdir, png, image):

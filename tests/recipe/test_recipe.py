@@ -93,6 +93,8 @@ def test_exp_step_supersamples_as_the_command():
     assert recipe({"exp": {}}).at().warp_kwargs["supersample"] == 3
     r = recipe({"exp": {}}, options={"supersample": 1})
     assert r.at().warp_kwargs["supersample"] == 1
+    r = recipe({"exp": {}}, options={"antialias": "none"})  # the filter chosen: no default
+    assert r.at().warp_kwargs["supersample"] == 1 and r.at().warp_kwargs["antialias"] == "none"
 
 
 def test_options_and_view_reach_warp():

@@ -100,12 +100,13 @@ def _look_at(point: tuple[float, float] | None) -> Any:
 
 
 def _supersample(render: RenderOptions, default: int) -> RenderOptions:
-    """``render`` with ``default`` supersampling unless --supersample was given."""
+    """``render`` with ``default`` supersampling unless --supersample or --antialias was
+    given (either one chooses the filter: the default must not override it)."""
     from dataclasses import replace
 
     ctx = click.get_current_context()
-    source = ctx.get_parameter_source("supersample")
-    if source in (None, click.core.ParameterSource.DEFAULT):
+    given = (ctx.get_parameter_source(k) for k in ("supersample", "antialias"))
+    if all(s in (None, click.core.ParameterSource.DEFAULT) for s in given):
         return replace(render, supersample=default)
     return render
 
@@ -232,7 +233,8 @@ def exp(
     """Pull back by the exp variant: the image repeats infinitely often horizontally.
 
     The copies shrink toward the back point, where infinitely many of them
-    meet; --supersample defaults to 3 here to keep that clean.
+    meet; --supersample defaults to 3 here to keep that clean (unless --antialias
+    is given).
     """
     from ..recipe.effects import EFFECTS
 
@@ -360,7 +362,7 @@ def splitscreen(
     the others in turn); the seams run between the branch points, along the
     input meridian where the inputs agree, and are cross-faded. Inputs may
     differ in size (resampled to the largest) and channels. With --cover exp,
-    --supersample defaults to 3.
+    --supersample defaults to 3 (unless --antialias is given).
     """
     import spherewarp.effects.splitscreen as ss
 

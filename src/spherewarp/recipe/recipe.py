@@ -628,8 +628,8 @@ def _parse_options(
             raise RecipeError(f"options.{key}", f"unknown option{suggest(key, known)}")
     kwargs: dict[str, Any] = {"interp": "bilinear", "supersample": 1, "antialias": "auto"}
     own = [EFFECTS[s.effect].supersample for s in steps if EFFECTS[s.effect].supersample]
-    if own:
-        kwargs["supersample"] = max(own)  # as the command does when --supersample is not given
+    if own and options.get("antialias") is None:  # as the command does without --supersample
+        kwargs["supersample"] = max(own)  # or --antialias (either one chooses the filter)
     if options.get("interp") is not None:
         kwargs["interp"] = _INTERP.parse_plain(options["interp"], "options.interp")
     if options.get("supersample") is not None:
