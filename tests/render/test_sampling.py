@@ -201,3 +201,29 @@ def test_sample_area_of_wide_boxes_matches_the_compiled_taps():
         np.empty(4, np.int64), np.empty(4, np.int64),
     )  # fmt: skip
     np.testing.assert_allclose(acc, want, atol=1e-5)
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_float_bicubic_does_not_ring_past_its_nearest_samples(dtype):
+    """An HDR step (a sun of 50,000 in a sky of 1) rang to -2,269 beside it (black specks
+    once tone-mapped): a float image's bicubic value stays within its four nearest
+    samples, in the NumPy sampler, the compiled one, and warp's reference and fast paths
+    alike; a smooth image's values do not change."""
+    from spherewarp.maps import Mobius
+    from spherewarp.render import warp
+
+    img = np.ones((16, 32, 3), dtype)
+    img[6:9, 10:13] = 50_000.0
+    m = Mobius.from_yaw_pitch_roll(7.3, 3.1, 1.7)
+    for method in ("fast", "reference"):
+        out = warp(img, m, interp="bicubic", antialias="none", method=method)
+        assert out.min() >= 1.0 and out.max() <= 50_000.0, method
+    rng = np.random.default_rng(3)
+    x, y = rng.uniform(0, 32, 500), rng.uniform(0.5, 15.5, 500)
+    got = sample(img, x, y, "bicubic")
+    assert got.min() >= 1.0
+    smooth = 1 + np.sin(np.arange(32) * np.pi / 16)[None, :, None] + np.zeros((16, 32, 1))
+    y = rng.uniform(3, 13, 500)  # away from the poles (a step: the fold's half turn)
+    as_float = sample(smooth.astype(np.float32), x, y, "bicubic")
+    as_int = sample(np.rint(smooth * 10_000).astype(np.uint16), x, y, "bicubic") / 10_000
+    assert np.abs(as_float - as_int).max() < 1e-3  # the clamp is no blur

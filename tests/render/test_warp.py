@@ -15,6 +15,7 @@ from tolerances import (
     MEASURED_SCALE_REL,
     REFERENCE_MAX_LEVELS,
     REFERENCE_MEAN_LEVELS,
+    SMOOTH_CLAMPED_BICUBIC,
     SMOOTH_INTERPOLATION,
     full_scale,
     rounding,
@@ -247,6 +248,8 @@ def test_smooth_image_stays_smooth(smooth_image, interp, dtype):
     expected = 0.5 + 0.5 * m.apply_xyz(xyz)
     err = np.abs(out - expected).max(axis=-1)
     bound = SMOOTH_INTERPOLATION[interp]
+    if interp == "bicubic" and np.dtype(dtype).kind == "f":
+        bound = SMOOTH_CLAMPED_BICUBIC
     assert np.all(np.isfinite(out))
     # everywhere, the edges (seam columns, pole rows) included
     assert err.max() <= bound, (err.max(), np.unravel_index(err.argmax(), err.shape))

@@ -376,6 +376,13 @@ def _sample_clamped(
         jj = np.clip(j0 + dj, y0b, y1b)
         row = sum(wxi[:, None] * im[jj, ci] for wxi, ci in zip(wx, cols, strict=True))
         out += wyj[:, None] * row
+    if interp == "bicubic" and image.dtype.kind == "f":  # no ringing (as render.sample)
+        near = [im[np.clip(j0 + dj, y0b, y1b), np.clip(i0 + di, x0b, x1b)]
+                for dj in (0, 1) for di in (0, 1)]  # fmt: skip
+        lo, hi = np.fmin.reduce(near), np.fmax.reduce(near)
+        nan = np.isnan(out)
+        out = np.clip(out, lo, hi)
+        out[nan] = np.nan
     return out
 
 

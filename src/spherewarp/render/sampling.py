@@ -121,12 +121,24 @@ def sample(
         wy = _cubic_weights(ty)
         offsets = (-1, 0, 1, 2)
     out = np.zeros((*shape, c), dtype=np.float32)
+    # a float image's bicubic value is clamped to its four nearest samples (no ringing of
+    # an HDR image's unbounded steps), as the compiled sampler does
+    clamp = interp == "bicubic" and np.asarray(image).dtype.kind == "f"
+    lo = np.full((*shape, c), np.inf, np.float32) if clamp else None
+    hi = np.full((*shape, c), -np.inf, np.float32) if clamp else None
     for j, oy in enumerate(offsets):
         row = np.zeros((*shape, c), dtype=np.float32)
         for i, ox in enumerate(offsets):
             taps = flat[_flat_index(y0 + oy, x0 + ox, h, w)]
             row += wx[i][..., None] * taps
+            if clamp and oy in (0, 1) and ox in (0, 1):
+                lo = np.fmin(lo, taps)
+                hi = np.fmax(hi, taps)
         out += wy[j][..., None] * row
+    if clamp:
+        nan = np.isnan(out)
+        out = np.clip(out, lo, hi).astype(np.float32, copy=False)
+        out[nan] = np.nan
     return out
 
 
