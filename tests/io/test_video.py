@@ -600,3 +600,59 @@ def test_render_video_keeps_frame_times_exactly(tmp_path):
         out = tmp_path / f"{name}.mp4"
         render_video(src, out, lambda t: (Mobius.from_yaw_pitch_roll(30, 0, 0), {}))
         assert times(out) == times(src) and times(src)[0] > 0
+
+
+def tagged_clip(path, pix_fmt, colors, frames=2):
+    """Saturated colour bars as FFV1 (lossless) in Matroska, in ``pix_fmt``, tagged with
+    ``colors`` (primaries, transfer, matrix) and converted from RGB with that matrix."""
+    bars = np.array(
+        [[255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 0], [0, 255, 255], [255, 0, 255]],
+        np.uint8,
+    )
+    rgb = np.ascontiguousarray(np.repeat(np.repeat(bars[None], 128, 0), 256 // 6 + 1, 1)[:, :256])
+    with av.open(str(path), "w") as c:
+        v = c.add_stream("ffv1", rate=12)
+        v.width, v.height, v.pix_fmt = 256, 128, pix_fmt
+        cc = v.codec_context
+        cc.color_primaries, cc.color_trc, cc.colorspace = colors
+        for k in range(frames):
+            f = av.VideoFrame.from_ndarray(rgb, format="rgb24")
+            f.colorspace = colors[2]
+            f.pts = k
+            c.mux(v.encode(f))
+        c.mux(v.encode(None))
+    return path, rgb.astype(np.int32)
+
+
+@pytest.mark.parametrize("how", ["planes", "rgb", "segments"])
+@pytest.mark.parametrize(
+    "pix_fmt,colors,out_pix",
+    [
+        ("yuv420p10le", (9, 18, 9), None),  # BT.2020 HLG
+        ("yuv420p", (1, 1, 1), None),  # BT.709
+        ("yuv420p", (1, 1, 1), "yuv444p"),  # through RGB and back with BT.709's matrix
+        ("yuv420p", (6, 6, 6), "yuv444p"),  # smpte170m (BT.601)
+    ],
+)
+def test_colour_tags_are_kept_and_match_the_conversion(tmp_path, pix_fmt, colors, out_pix, how):
+    """The input's colour primaries, transfer and matrix are the output's (they came out
+    unspecified), and a saturated colour comes back: frames warped through RGB are converted
+    back with the matrix the output says, not BT.601's under a BT.709 tag."""
+    from spherewarp.io.segments import render_segmented
+
+    src, rgb = tagged_clip(tmp_path / "in.mkv", pix_fmt, colors)
+    out = tmp_path / "o.mp4"
+    turn = Mobius.from_yaw_pitch_roll(360, 0, 0)
+    if how == "segments":
+        render_segmented(src, out, lambda t: (turn, {}), crf=0, pix_fmt=out_pix)
+    else:
+        render_video(src, out, lambda t: (turn, {}), crf=0, pix_fmt=out_pix,
+                     planar=how == "planes")  # fmt: skip
+    with av.open(str(out)) as c:
+        cc = c.streams.video[0].codec_context
+        assert (cc.color_primaries, cc.color_trc, cc.colorspace) == colors
+        got = next(c.decode(video=0)).to_ndarray(format="rgb24").astype(np.int32)
+    # away from the bars' edges (4:2:0 chroma), each bar's colour is the input's
+    cols = [k * 43 + 21 for k in range(6)]
+    assert np.abs(got[32:96, cols] - rgb[32:96, cols]).max() <= 8
+    assert probe(out).colors == colors

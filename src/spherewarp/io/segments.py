@@ -328,7 +328,7 @@ def _render_segment(
             with av.open(str(tmp), "w", format=_PART_FORMAT) as dst:
                 vout = add_video_stream(
                     dst, s.codec, rate, s.options, s.size, s.out_pix, vin.time_base,
-                    s.color_range,
+                    s.color_range, s.colors,
                 )  # fmt: skip
 
                 def frames() -> Iterator[Any]:

@@ -186,6 +186,10 @@ class VideoInfo:
     color_range : int
         The video stream's colour range, as FFmpeg numbers it (``AVColorRange``): 0
         unspecified, 1 limited (MPEG, "tv"), 2 full (JPEG, "pc").
+    colors : (int, int, int)
+        The video stream's colour primaries, transfer characteristic and YUV matrix, as
+        FFmpeg numbers them (``AVColorPrimaries``, ``AVColorTransferCharacteristic``,
+        ``AVColorSpace``: 1 BT.709, 9 BT.2020, 18 ``arib-std-b67``...; 2 unspecified).
     """
 
     width: int
@@ -199,6 +203,7 @@ class VideoInfo:
     bit_depth: int
     spherical: Spherical | None
     color_range: int = 0
+    colors: tuple[int, int, int] = (2, 2, 2)
 
 
 def _open(path: str | Path) -> Any:
@@ -248,6 +253,8 @@ def _depth(pix_fmt: str) -> int:
 
 #: FFmpeg's colour ranges (``AVColorRange``): unspecified (read as limited) and full
 RANGE_UNSPECIFIED, RANGE_FULL = 0, 2
+#: FFmpeg's "unspecified" colour primaries, transfer and matrix (``AVCOL_*_UNSPECIFIED``)
+COLORS_UNSPECIFIED = (2, 2, 2)
 
 
 def output_range(out_pix: str, in_pix: str | None = None, in_range: int = 0) -> int:
@@ -290,6 +297,39 @@ def output_range(out_pix: str, in_pix: str | None = None, in_range: int = 0) -> 
     return RANGE_UNSPECIFIED
 
 
+def _is_rgb(pix_fmt: str) -> bool:
+    import av
+
+    try:
+        return bool(av.VideoFormat(pix_fmt).is_rgb)
+    except (ValueError, av.error.FFmpegError):
+        return False
+
+
+def output_colors(out_pix: str, in_pix: str, colors: tuple[int, int, int]) -> tuple[int, int, int]:
+    """The colour primaries, transfer and matrix an output of ``out_pix`` says, from the
+    input's ``colors`` (:attr:`VideoInfo.colors`).
+
+    A warp moves pixels and leaves their colours as they are, so the primaries and the
+    transfer (HLG, PQ, BT.709...) are the input's. The YUV matrix is the input's too where
+    both are YUV: frames warped through RGB are converted back with it (:func:`encode`), as
+    the decoder converted them to RGB with the input's. An RGB output has no matrix to say,
+    and a YUV output of an RGB input (whose matrix says RGB) keeps the encoder's default
+    (unspecified).
+
+    Examples
+    --------
+    >>> output_colors("yuv420p10le", "yuv420p10le", (9, 18, 9))
+    (9, 18, 9)
+    >>> output_colors("gbrp", "yuv420p", (1, 1, 1)), output_colors("yuv420p", "rgba", (2, 2, 0))
+    ((1, 1, 2), (2, 2, 2))
+    """
+    primaries, trc, matrix = colors
+    if _is_rgb(out_pix) or _is_rgb(in_pix) or matrix == 0:  # AVCOL_SPC_RGB
+        matrix = COLORS_UNSPECIFIED[2]
+    return primaries, trc, matrix
+
+
 def add_video_stream(
     dst: Any,
     codec: str,
@@ -299,6 +339,7 @@ def add_video_stream(
     pix_fmt: str,
     time_base: Fraction,
     color_range: int = RANGE_UNSPECIFIED,
+    colors: tuple[int, int, int] = COLORS_UNSPECIFIED,
 ) -> Any:
     """Add the encoder's stream to the output container ``dst``.
 
@@ -319,6 +360,10 @@ def add_video_stream(
     color_range : int
         The range of its samples (:func:`output_range`), written in the stream; frames
         given in another pixel format are converted into it (:func:`encode`).
+    colors : (int, int, int)
+        The colour primaries, transfer and YUV matrix written in the stream
+        (:func:`output_colors`; unspecified ones are left out); RGB frames are converted
+        with that matrix (:func:`encode`).
 
     Returns
     -------
@@ -332,15 +377,24 @@ def add_video_stream(
     vout.thread_type = "AUTO"
     if color_range != RANGE_UNSPECIFIED:
         vout.codec_context.color_range = color_range
+    cc = vout.codec_context
+    for tag, value, unset in zip(
+        ("color_primaries", "color_trc", "colorspace"), colors, COLORS_UNSPECIFIED, strict=True
+    ):
+        if value != unset:
+            setattr(cc, tag, value)
     return vout
 
 
 def encode(vout: Any, frame: Any) -> list[Any]:
     """``vout.encode(frame)`` (None: flush), an RGB frame first tagged with the stream's colour
-    range: the encoder converts it to its pixel format in that range, the one its stream
-    says (RGB samples are full range whatever the tag)."""
+    range and YUV matrix: the encoder converts it to its pixel format in that range and with
+    that matrix, the ones its stream says (RGB samples are full range whatever the tag; an
+    untagged frame is converted with BT.601's matrix, which an untagged stream is read with)."""
     if frame is not None and frame.format.is_rgb:
         frame.color_range = vout.codec_context.color_range
+        if vout.codec_context.colorspace != COLORS_UNSPECIFIED[2]:
+            frame.colorspace = vout.codec_context.colorspace
     return vout.encode(frame)
 
 
@@ -378,6 +432,7 @@ def probe(path: str | os.PathLike[str]) -> VideoInfo:
             bit_depth=_depth(pix),
             spherical=sph,
             color_range=int(cc.color_range or 0),
+            colors=(int(cc.color_primaries), int(cc.color_trc), int(cc.colorspace)),
         )
 
 
@@ -786,7 +841,7 @@ def render_video(
             try:
                 _transcode(
                     src, dst, s.info, s.codec, s.out_pix, s.rgb, s.options, frame_map, progress,
-                    s.plan_maker(planar), s.size, s.color_range,
+                    s.plan_maker(planar), s.size, s.color_range, s.colors,
                 )  # fmt: skip
             finally:
                 dst.close()
@@ -812,6 +867,7 @@ class Settings:
     out_shape: tuple[int, int] | None
     force: bool
     color_range: int = RANGE_UNSPECIFIED
+    colors: tuple[int, int, int] = COLORS_UNSPECIFIED
 
     def plan_maker(self, planar: bool) -> Callable[[SphereMap, dict[str, Any], str], Any]:
         """``make_plan(inverse, build_options, in_pix)``: the frame plan of one map."""
@@ -862,9 +918,11 @@ def prepare(
     color_range = output_range(out_pix, info.pix_fmt, info.color_range)
     if check:
         _check_encoder(enc, out_pix, options, info, size, color_range)
+    colors = output_colors(out_pix, info.pix_fmt, info.colors)
     return Settings(
-        info, layout, grid, size, enc.name, out_pix, rgb, options, out_shape, force, color_range
-    )
+        info, layout, grid, size, enc.name, out_pix, rgb, options, out_shape, force, color_range,
+        colors,
+    )  # fmt: skip
 
 
 def frame_layout(
@@ -960,6 +1018,7 @@ def _transcode(
     make_plan: Callable[[SphereMap, dict[str, Any], str], Any],
     size: tuple[int, int],
     color_range: int = RANGE_UNSPECIFIED,
+    colors: tuple[int, int, int] = COLORS_UNSPECIFIED,
 ) -> None:
     import av
 
@@ -967,7 +1026,7 @@ def _transcode(
     vin.thread_type = "AUTO"
     rate = vin.average_rate or vin.guessed_rate or Fraction(24)
     vout = add_video_stream(
-        dst, codec, rate, options, size, out_pix, vin.time_base, color_range
+        dst, codec, rate, options, size, out_pix, vin.time_base, color_range, colors
     )  # fmt: skip
     copies = copy_streams(src, dst, vin)
     total = info.frames
