@@ -386,3 +386,40 @@ def test_audio_matroska_cannot_hold_is_dropped_with_one_warning(workdir):
     with av.open("o.mkv") as c:
         assert [s.type for s in c.streams] == ["video"]
         assert sum(1 for _ in c.decode(video=0)) == 12
+
+
+def with_display_rotation(src, dst, degrees):
+    """``src`` remuxed to ``dst`` with a display matrix turning it by ``degrees`` (a phone's
+    rotation tag: players show the frames turned)."""
+    with av.open(str(src)) as c, av.open(str(dst), "w") as out:
+        streams = {}
+        for s in c.streams:
+            streams[s.index] = out.add_stream_from_template(s)
+            if s.type == "video":
+                streams[s.index].set_display_rotation(degrees)
+        for p in c.demux():
+            if p.dts is not None:
+                p.stream = streams[p.stream_index]
+                out.mux(p)
+    return dst
+
+
+@pytest.mark.parametrize("segment", [[], ["--segment", "0.25"]])
+@pytest.mark.parametrize("degrees", [180, 90])
+def test_a_display_rotation_is_refused_or_dropped_with_force(clip, segment, degrees):
+    """Players show such a video turned, and the map would turn the stored frames: refused
+    in one line (the output had lost the matrix silently and played upside down); --force
+    warps the frames as stored and says the rotation is dropped."""
+    from _cli import fails
+
+    rot = with_display_rotation(clip, clip.with_name("rot.mp4"), degrees)
+    err = fails(None, "video", rot.name, "-o", "o.mp4", *segment, "rotate", "--yaw", "0")
+    assert f"is shown rotated by {degrees}°" in err and "--force" in err
+    assert not os.path.exists("o.mp4")
+    code, _, err = run(None, "video", rot.name, "-o", "o.mp4", "-q", "--force", *segment,
+                       "rotate", "--yaw", "90")  # fmt: skip
+    assert code == 0 and err.count("\n") == 1, err
+    assert "warning:" in err and "warped as stored" in err
+    assert probe("o.mp4").display is None
+    src, out = frames(clip), frames("o.mp4")
+    assert psnr(np.roll(src[0], -src[0].shape[1] // 4, axis=1), out[0]) >= 35

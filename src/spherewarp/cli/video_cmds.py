@@ -111,7 +111,12 @@ class _EffectGroup(click.Group):
     show_default=True,
     help="How HDR frames of an EXR/TIFF sequence become video (or 8/16-bit image) values.",
 )
-@click.option("--force", is_flag=True, help="Warp a video whose frame (eye) is not 2:1.")
+@click.option(
+    "--force",
+    is_flag=True,
+    help="Warp a video whose frame (eye) is not 2:1, or that players show rotated (its frames "
+    "as stored; the rotation is dropped).",
+)
 @click.option("--overwrite", is_flag=True, help="Replace an existing output.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar, no notes.")
 @segment_options

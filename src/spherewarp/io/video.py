@@ -190,6 +190,10 @@ class VideoInfo:
         The video stream's colour primaries, transfer characteristic and YUV matrix, as
         FFmpeg numbers them (``AVColorPrimaries``, ``AVColorTransferCharacteristic``,
         ``AVColorSpace``: 1 BT.709, 9 BT.2020, 18 ``arib-std-b67``...; 2 unspecified).
+    display : str or None
+        How players turn the frames before showing them (a display matrix, as a phone
+        writes: ``"rotated by 90°"``, ``"mirrored"``...); None when they show them as
+        stored (:func:`display_transform`).
     """
 
     width: int
@@ -204,6 +208,7 @@ class VideoInfo:
     spherical: Spherical | None
     color_range: int = 0
     colors: tuple[int, int, int] = (2, 2, 2)
+    display: str | None = None
 
 
 def _open(path: str | Path) -> Any:
@@ -433,7 +438,57 @@ def probe(path: str | os.PathLike[str]) -> VideoInfo:
             spherical=sph,
             color_range=int(cc.color_range or 0),
             colors=(int(cc.color_primaries), int(cc.color_trc), int(cc.colorspace)),
+            display=_display(c, s),
         )
+
+
+def display_transform(matrix: Any) -> str | None:
+    """What a display matrix (``AV_FRAME_DATA_DISPLAYMATRIX``: 9 int32, 16.16 fixed point)
+    does to a frame, in words (the rotation counterclockwise, in (-180, 180], as ffprobe's
+    ``rotation``); None for the identity.
+
+    Examples
+    --------
+    >>> display_transform([-65536, 0, 0, 0, -65536, 0, 0, 0, 1 << 30])
+    'rotated by 180°'
+    >>> display_transform([0, -65536, 0, 65536, 0, 0, 0, 0, 1 << 30])
+    'rotated by 90°'
+    >>> display_transform([-65536, 0, 0, 0, 65536, 0, 0, 0, 1 << 30])
+    'mirrored'
+    >>> display_transform([65536, 0, 0, 0, 65536, 0, 0, 0, 1 << 30]) is None
+    True
+    """
+    import math
+
+    a, b, _, c, d, _, _, _, _ = (int(v) for v in matrix)
+    if (a, b, c, d) == (65536, 0, 0, 65536):
+        return None
+    mirrored = a * d - b * c < 0
+    if mirrored:  # undo the flip (of the x axis) to read the rotation
+        a, c = -a, -c
+    degrees = -round(math.degrees(math.atan2(b, a)))  # counterclockwise, as ffprobe says it
+    degrees = 180 if degrees == -180 else degrees
+    turned = f"rotated by {degrees}°" if degrees else ""
+    return " and ".join(w for w in (turned, "mirrored" if mirrored else "") if w) or None
+
+
+def _display(container: Any, stream: Any) -> str | None:
+    """:func:`display_transform` of the display matrix of ``stream``'s first frame (FFmpeg
+    gives the stream's to its frames), None when it has none or it cannot be decoded."""
+    import av
+    import numpy as np
+
+    try:
+        frame = next(container.decode(stream), None)
+    except av.error.FFmpegError:
+        return None
+    sd = frame.side_data if frame is not None else None
+    if sd is None:
+        return None
+    for key in sd.keys():
+        if "DISPLAYMATRIX" in str(key):
+            return display_transform(np.frombuffer(bytes(sd[key]), "<i4")[:9])
+    return None
 
 
 def video_encoders() -> list[str]:
@@ -934,7 +989,27 @@ def frame_layout(
     force: bool,
 ) -> tuple[str, Any, tuple[int, int]]:
     """The stereo layout, the output grid (resolved for an eye) and the output frame's size;
-    refuses an eye that is not 2:1 unless ``force``."""
+    refuses an eye that is not 2:1 unless ``force``, and frames that players show turned (a
+    display matrix: :attr:`VideoInfo.display`) unless ``force``.
+
+    A panorama is what players show: a phone's rotation tag on an equirectangular video is
+    a mistake or a portrait clip, and a map applied to the stored frames would turn another
+    sphere than the one seen (the output's yaw would be the input's pitch, or its opposite);
+    writing the matrix on the output would show the warped panorama turned. So such an
+    input is refused, unless ``force`` (warp the frames as stored, the rotation dropped
+    with a warning)."""
+    if info.display is not None:
+        if not force:
+            raise InvalidValueError(
+                f"'{input}' is shown {info.display} (a display matrix), but its frames are "
+                "warped as stored: make it upright first (ffmpeg -i IN OUT applies it), or "
+                "pass --force to warp the frames as stored (the rotation is dropped)"
+            )
+        warnings.warn(
+            f"'{input}' is shown {info.display} (a display matrix): its frames are warped "
+            "as stored and the output has no display rotation",
+            stacklevel=3,
+        )
     layout = stereo_layout(info, stereo)
     eye_h, eye_w = eye_shape((info.height, info.width), layout)
     if eye_w != 2 * eye_h and not force:
