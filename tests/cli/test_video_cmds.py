@@ -423,3 +423,27 @@ def test_a_display_rotation_is_refused_or_dropped_with_force(clip, segment, degr
     assert probe("o.mp4").display is None
     src, out = frames(clip), frames("o.mp4")
     assert psnr(np.roll(src[0], -src[0].shape[1] // 4, axis=1), out[0]) >= 35
+
+
+@pytest.mark.parametrize(
+    "bounds,stereo,what",
+    [
+        ((0.1, 0.1, 0.1, 0.1), "mono", "a cropped equirectangular"),
+        ((0.0, 0.0, 0.25, 0.25), "left-right", "a VR180 (half-sphere) equirectangular"),
+    ],
+)
+@pytest.mark.parametrize("extra", [[], ["--force"], ["--segment", "0.25"]])
+def test_cropped_equirectangular_bounds_are_refused(workdir, bounds, stereo, what, extra):
+    """An input whose equi bounds are not all 0 (cropped, VR180) is refused in one line that
+    says so: it was warped as a full panorama and written as one (bounds 0), or a VR180
+    input was refused as 'not 2:1' and with --force written as 360°."""
+    from _cli import fails
+
+    from spherewarp.io.spherical import Spherical, write_spherical
+
+    src = make_clip(workdir / "crop.mp4", frames=6, audio=False)  # VR180: each eye 1:1
+    write_spherical(src, Spherical(stereo=stereo, bounds=bounds))
+    assert probe(src).spherical.bounds == pytest.approx(bounds)
+    err = fails(None, "video", src.name, "-o", "o.mp4", *extra, "rotate", "--yaw", "90")
+    assert what in err and "bounds" in err and "not 2:1" not in err
+    assert not os.path.exists("o.mp4")

@@ -998,6 +998,7 @@ def frame_layout(
     writing the matrix on the output would show the warped panorama turned. So such an
     input is refused, unless ``force`` (warp the frames as stored, the rotation dropped
     with a warning)."""
+    _check_projection(info, input)
     if info.display is not None:
         if not force:
             raise InvalidValueError(
@@ -1020,6 +1021,30 @@ def frame_layout(
         )
     grid = resolve_grid(grid, (eye_h, eye_w))
     return layout, grid, FramePlan.output_shape((eye_h, eye_w), layout, grid, out_shape)
+
+
+def _check_projection(info: VideoInfo, input: Path) -> None:
+    """Refuse an input whose spherical metadata says its frame is not the whole sphere in
+    equirectangular: cropped equirectangular (non-zero ``equi`` bounds: VR180 and others), a
+    cubemap or a mesh. Warping the frame as a full panorama and calling the output one (as
+    was done) gives a wrong picture and wrong metadata; --force does not change that."""
+    sph = info.spherical
+    if sph is None:
+        return
+    if sph.projection in ("cubemap", "mesh"):
+        raise InvalidValueError(
+            f"'{input}' is a {sph.projection} 360° video (its spherical metadata), which "
+            "spherewarp does not map: convert it to equirectangular first"
+        )
+    if sph.projection == "equirectangular" and any(b > 0 for b in sph.bounds):
+        top, bottom, left, right = sph.bounds
+        what = "a VR180 (half-sphere)" if abs(left + right - 0.5) < 1e-3 else "a cropped"
+        raise InvalidValueError(
+            f"'{input}' is {what} equirectangular video (its spherical metadata's bounds crop "
+            f"off top {top:.4g}, bottom {bottom:.4g}, left {left:.4g}, right {right:.4g} of "
+            "the sphere), which spherewarp does not map yet: pad it to the full 360x180 "
+            "sphere first"
+        )
 
 
 def stereo_layout(info: VideoInfo, stereo: str | None) -> str:
