@@ -6,6 +6,7 @@ import json
 import shutil
 import subprocess
 import warnings
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -656,3 +657,68 @@ def test_colour_tags_are_kept_and_match_the_conversion(tmp_path, pix_fmt, colors
     cols = [k * 43 + 21 for k in range(6)]
     assert np.abs(got[32:96, cols] - rgb[32:96, cols]).max() <= 8
     assert probe(out).colors == colors
+
+
+def rich_clip(path, src):
+    """``src`` (video and audio) remuxed to ``path`` with a title and an artist, two chapters,
+    and its audio twice: English (the default track) and French, titled."""
+    with av.open(str(src)) as c, av.open(str(path), "w") as out:
+        out.metadata.update({"title": "My VR Tour", "artist": "QA"})
+        out.set_chapters([
+            {"id": 1, "start": 0, "end": 1000, "time_base": Fraction(1, 1000),
+             "metadata": {"title": "Intro"}},
+            {"id": 2, "start": 1000, "end": 2000, "time_base": Fraction(1, 1000),
+             "metadata": {"title": "Street"}},
+        ])  # fmt: skip
+        v = out.add_stream_from_template(c.streams.video[0])
+        a = c.streams.audio[0]
+        en, fr = out.add_stream_from_template(a), out.add_stream_from_template(a)
+        en.metadata["language"], fr.metadata["language"] = "eng", "fra"
+        fr.metadata["title"] = "Commentary"
+        v.disposition = en.disposition = 1  # the English track is the default
+        fr.disposition = 0
+        for p in c.demux():
+            if p.dts is None:
+                continue
+            if p.stream.type == "video":
+                p.stream = v
+                out.mux(p)
+            else:
+                for s in (en, fr):
+                    q = av.Packet(bytes(p))
+                    q.pts, q.dts, q.time_base, q.stream = p.pts, p.dts, p.time_base, s
+                    out.mux(q)
+    return path
+
+
+@pytest.mark.parametrize("how", ["whole", "segments"])
+@pytest.mark.parametrize("suffix", [".mp4", ".mkv"])
+def test_tags_chapters_and_languages_are_kept(tmp_path, clip, suffix, how):
+    """The container's tags (title, artist), its chapters and each stream's language, title
+    and default flag are the input's (all were dropped: both audio tracks came out 'und',
+    the French one the default in MKV); an MP4 chapter track draws no warning."""
+    from spherewarp.io.segments import render_segmented
+
+    src = rich_clip(tmp_path / f"in{suffix}", clip)
+    out = tmp_path / f"o{suffix}"
+    turn = Mobius.from_yaw_pitch_roll(90, 0, 0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        if how == "segments":
+            render_segmented(src, out, lambda t: (turn, {}), segment_seconds=0.5)
+        else:
+            render_video(src, out, lambda t: (turn, {}))
+        if suffix == ".mp4":  # the output's own chapter track, as the input's, is no loss
+            render_video(out, tmp_path / "again.mp4", lambda t: (turn, {}))
+    with av.open(str(out)) as c:
+        tags = {k.lower(): v for k, v in c.metadata.items()}
+        assert tags["title"] == "My VR Tour" and tags["artist"] == "QA"
+        assert [(float(ch["start"] * ch["time_base"]), ch["metadata"]["title"])
+                for ch in c.chapters()] == [(0, "Intro"), (1, "Street")]  # fmt: skip
+        audio = c.streams.audio
+        assert [s.metadata.get("language") for s in audio] == ["eng", "fra"]
+        fr = {k.lower(): v for k, v in audio[1].metadata.items()}
+        assert fr.get("title", fr.get("name")) == "Commentary"  # MP4 reads a track's 'name'
+        default = av.stream.Disposition.default
+        assert [bool(s.disposition & default) for s in audio] == [True, False]
+        assert c.streams.video[0].disposition & default

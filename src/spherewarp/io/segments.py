@@ -72,6 +72,7 @@ from .video import (
     copy_streams,
     encode,
     frames_from,
+    keep_metadata,
     muxer,
     output_spherical,
     pipeline,
@@ -1174,6 +1175,8 @@ def join(
             vout = dst.add_stream_from_template(template)
             vout.time_base = tb
             copies = {} if src is None else copy_streams(src, dst, vin)
+            if src is not None:
+                keep_metadata(src, dst, vin, vout, copies, end)
             others = [] if src is None else [s for s in src.streams if s.index in copies]
 
             def video() -> Iterator[tuple[Fraction, int, int, Any]]:

@@ -1083,6 +1083,57 @@ def _check_even(size: tuple[int, int], pix: str) -> None:
         )
 
 
+#: tags the muxer writes itself (or that describe the input file, not the output's streams)
+_OWN_TAGS = {
+    "encoder", "major_brand", "minor_version", "compatible_brands", "duration", "vendor_id",
+    "bps", "number_of_frames", "number_of_bytes",
+}  # fmt: skip
+
+
+def _tags(metadata: dict[str, str]) -> dict[str, str]:
+    """``metadata`` less the tags the muxer writes itself (:data:`_OWN_TAGS`, Matroska's
+    statistics: ``DURATION``, ``BPS-eng``, ``_STATISTICS_*``)."""
+    keep = {}
+    for key, value in metadata.items():
+        low = key.lower()
+        if low.split("-", 1)[0] in _OWN_TAGS or low.startswith("_statistics"):
+            continue
+        keep[key] = value
+    return keep
+
+
+def is_chapter_track(container: Any, stream: Any) -> bool:
+    """Whether ``stream`` is an MP4/MOV chapter track (a text track FFmpeg reads as
+    ``container.chapters()``, and shows as a ``bin_data`` data stream)."""
+    return stream.type == "data" and codec_name(stream) == "bin_data" and bool(container.chapters())
+
+
+def keep_metadata(
+    src: Any, dst: Any, vin: Any, vout: Any, copies: dict[int, Any], end: float | None = None
+) -> None:
+    """Give the output ``dst`` the input ``src``'s container tags (title, artist...), its
+    chapters (those that start before ``end`` seconds, when given), and each stream's tags
+    (language, title, handler) and disposition (which audio track is the default): ``vout``
+    gets ``vin``'s, each copy of ``copies`` (:func:`copy_streams`) its stream's. Call it
+    before the first packet is muxed.
+    """
+    dst.metadata.update(_tags(src.metadata))
+    chapters = [
+        c for c in src.chapters() if end is None or c["start"] * c["time_base"] < end
+    ]  # fmt: skip
+    if chapters:
+        dst.set_chapters(chapters)
+    pairs = [(vin, vout)] + [(s, copies[s.index]) for s in src.streams if s.index in copies]
+    for s, out in pairs:
+        tags = _tags(s.metadata)
+        if "name" in tags and "title" not in tags:  # an MP4 track's title reads as its 'name'
+            tags["title"] = tags.pop("name")
+        if s is vin:
+            tags.pop("timecode", None)  # a MOV/MP4 muxer makes a timecode track of it
+        out.metadata.update(tags)
+        out.disposition = int(s.disposition)
+
+
 def copy_streams(src: Any, dst: Any, vin: Any) -> dict[int, Any]:
     """Add to ``dst`` a copy of each stream of ``src`` but ``vin`` that its container holds
     (``{input stream index: output stream}``), warning of each one dropped."""
@@ -1092,6 +1143,8 @@ def copy_streams(src: Any, dst: Any, vin: Any) -> dict[int, Any]:
         if s is vin:
             continue
         name = codec_name(s)
+        if is_chapter_track(src, s):
+            continue  # made anew from the chapters (keep_metadata)
         if s.type == "video":
             why = "only the first video stream is warped"
         elif s.type not in _COPIED_KINDS:
@@ -1129,6 +1182,7 @@ def _transcode(
         dst, codec, rate, options, size, out_pix, vin.time_base, color_range, colors
     )  # fmt: skip
     copies = copy_streams(src, dst, vin)
+    keep_metadata(src, dst, vin, vout, copies)
     total = info.frames
     plan: tuple[Any, Any] | None = None
     done = 0
