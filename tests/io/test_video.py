@@ -722,3 +722,47 @@ def test_tags_chapters_and_languages_are_kept(tmp_path, clip, suffix, how):
         default = av.stream.Disposition.default
         assert [bool(s.disposition & default) for s in audio] == [True, False]
         assert c.streams.video[0].disposition & default
+
+
+def timecode_clip(path, src, timecode="01:02:03:04"):
+    """``src``'s video remuxed to the MOV file ``path`` with a timecode (a ``tmcd`` track)."""
+    with av.open(str(src)) as c, av.open(str(path), "w") as out:
+        v = out.add_stream_from_template(c.streams.video[0])
+        v.metadata["timecode"] = timecode
+        v.codec_context.framerate = c.streams.video[0].average_rate
+        for p in c.demux(c.streams.video[0]):
+            if p.dts is not None:
+                p.stream = v
+                out.mux(p)
+    return path
+
+
+@pytest.mark.parametrize("how", ["whole", "segments"])
+@pytest.mark.parametrize("suffix", [".mov", ".mp4", ".mkv"])
+def test_a_timecode_is_kept(tmp_path, clip, suffix, how):
+    """A MOV input's timecode track is the output's (it was dropped, with a warning naming
+    'stream #1 (data, unknown)'); a Matroska file holds no timecode track, and says so in
+    one warning, its video keeping the timecode tag."""
+    from spherewarp.io.segments import render_segmented
+
+    src = timecode_clip(tmp_path / "tc.mov", clip)
+    with av.open(str(src)) as c:
+        assert [s.type for s in c.streams] == ["video", "data"]
+    out = tmp_path / f"o{suffix}"
+    turn = Mobius.from_yaw_pitch_roll(90, 0, 0)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        if how == "segments":
+            render_segmented(src, out, lambda t: (turn, {}), segment_seconds=0.5)
+        else:
+            render_video(src, out, lambda t: (turn, {}))
+    said = [str(w.message) for w in caught]
+    with av.open(str(out)) as c:
+        video = {k.lower(): v for k, v in c.streams.video[0].metadata.items()}
+        assert video["timecode"] == "01:02:03:04"
+        tracks = [s for s in c.streams if s.type == "data"]
+        if suffix == ".mkv":
+            assert not tracks and len(said) == 1 and "timecode track" in said[0], said
+        else:
+            assert not said, said
+            assert [s.metadata.get("timecode") for s in tracks] == ["01:02:03:04"]

@@ -1108,14 +1108,21 @@ def is_chapter_track(container: Any, stream: Any) -> bool:
     return stream.type == "data" and codec_name(stream) == "bin_data" and bool(container.chapters())
 
 
+def is_timecode_track(stream: Any) -> bool:
+    """Whether ``stream`` is a MOV/MP4 timecode (``tmcd``) track: FFmpeg reads it as a data
+    stream with a ``timecode`` tag, which it also puts on the video stream."""
+    return stream.type == "data" and "timecode" in stream.metadata
+
+
 def keep_metadata(
     src: Any, dst: Any, vin: Any, vout: Any, copies: dict[int, Any], end: float | None = None
 ) -> None:
     """Give the output ``dst`` the input ``src``'s container tags (title, artist...), its
     chapters (those that start before ``end`` seconds, when given), and each stream's tags
-    (language, title, handler) and disposition (which audio track is the default): ``vout``
-    gets ``vin``'s, each copy of ``copies`` (:func:`copy_streams`) its stream's. Call it
-    before the first packet is muxed.
+    (language, title, handler; the video's ``timecode``, from which a MOV/MP4 muxer writes
+    a timecode track) and disposition (which audio track is the default): ``vout`` gets
+    ``vin``'s, each copy of ``copies`` (:func:`copy_streams`) its stream's. Call it before
+    the first packet is muxed.
     """
     dst.metadata.update(_tags(src.metadata))
     chapters = [
@@ -1128,10 +1135,16 @@ def keep_metadata(
         tags = _tags(s.metadata)
         if "name" in tags and "title" not in tags:  # an MP4 track's title reads as its 'name'
             tags["title"] = tags.pop("name")
-        if s is vin:
-            tags.pop("timecode", None)  # a MOV/MP4 muxer makes a timecode track of it
         out.metadata.update(tags)
         out.disposition = int(s.disposition)
+    timecodes = [s.metadata["timecode"] for s in src.streams if is_timecode_track(s)]
+    if timecodes and "timecode" not in vout.metadata:
+        vout.metadata["timecode"] = timecodes[0]
+    cc = vout.codec_context
+    rate = vin.average_rate or vin.guessed_rate
+    if "timecode" in vout.metadata and cc is not None and rate:
+        # the timecode track counts frames at the input's rate (a joined part's says another)
+        cc.framerate = rate
 
 
 def copy_streams(src: Any, dst: Any, vin: Any) -> dict[int, Any]:
@@ -1143,8 +1156,16 @@ def copy_streams(src: Any, dst: Any, vin: Any) -> dict[int, Any]:
         if s is vin:
             continue
         name = codec_name(s)
-        if is_chapter_track(src, s):
-            continue  # made anew from the chapters (keep_metadata)
+        if is_chapter_track(src, s) or (is_timecode_track(s) and mux in ("mov", "mp4")):
+            continue  # made anew from the chapters, the video's timecode (keep_metadata)
+        if is_timecode_track(s):
+            warnings.warn(
+                f"stream #{s.index} (timecode track) is dropped: "
+                f"{_CONTAINER_NAMES.get(mux, 'the output')} file holds no timecode track (the "
+                f"video keeps its timecode tag, {s.metadata['timecode']})",
+                stacklevel=4,
+            )
+            continue
         if s.type == "video":
             why = "only the first video stream is warped"
         elif s.type not in _COPIED_KINDS:
