@@ -967,7 +967,7 @@ def prepare(
     enc = _encoder(default_codec(output) if codec is None else codec)
     out_pix = _pick_pix_fmt(enc, info.pix_fmt, pix_fmt)
     _check_even(size, out_pix)
-    rgb = _HIGH_DEPTH_RGB if _depth(out_pix) > 8 else "rgb24"
+    rgb = _rgb_format(enc, info.pix_fmt, out_pix)
     check_container(enc, output)
     options = encoder_options(enc, crf, preset)
     color_range = output_range(out_pix, info.pix_fmt, info.color_range)
@@ -978,6 +978,39 @@ def prepare(
         info, layout, grid, size, enc.name, out_pix, rgb, options, out_shape, force, color_range,
         colors,
     )  # fmt: skip
+
+
+def _has_alpha(pix_fmt: str) -> bool:
+    import av
+
+    try:
+        return any(c.is_alpha for c in av.VideoFormat(pix_fmt).components)
+    except (ValueError, av.error.FFmpegError):
+        return False
+
+
+def _rgb_format(enc: Any, in_pix: str, out_pix: str) -> str:
+    """The RGB format frames are warped in when not plane by plane: ``rgb24`` (``rgb48le``
+    for more than 8 bits), with alpha (``rgba``, ``rgba64le``) when both the input and the
+    encoder's ``out_pix`` have it; warns that an input's alpha is dropped when ``out_pix``
+    has none. Refuses alpha for VP8/VP9, which write it beside the frames (in WebM's block
+    additions), where spherewarp's segments and joins do not carry it."""
+    deep = _depth(out_pix) > 8
+    if _has_alpha(out_pix) and enc.name in ("libvpx", "libvpx-vp9"):
+        raise InvalidValueError(
+            f"--pix-fmt {out_pix}: spherewarp cannot write {enc.name}'s alpha (kept beside "
+            "the frames); for alpha use --codec png, prores_ks or ffv1 (.mov or .mkv), or "
+            "choose a --pix-fmt without alpha"
+        )
+    if _has_alpha(in_pix):
+        if _has_alpha(out_pix):
+            return "rgba64le" if deep else "rgba"
+        warnings.warn(
+            f"the input's alpha channel is dropped: {out_pix} has none (for alpha use e.g. "
+            "--codec png --pix-fmt rgba, in .mov or .mkv)",
+            stacklevel=4,
+        )
+    return _HIGH_DEPTH_RGB if deep else "rgb24"
 
 
 def frame_layout(
