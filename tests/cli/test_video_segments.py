@@ -368,3 +368,27 @@ def test_a_hang_up_is_handled_as_a_termination_and_resume_works(clip, jobs):
     assert not [f for f in os.listdir() if ".spherewarp-" in f]
     ok(None, *args, "--resume", *ROTATE, "-o", "cut.mp4")
     assert digest("cut.mp4") == digest("whole.mp4")
+
+
+def has_encoder(name: str) -> bool:
+    from spherewarp.io.video import video_encoders
+
+    return name in video_encoders()
+
+
+@pytest.mark.skipif(not has_encoder("libsvtav1"), reason="no libsvtav1 in this build")
+@pytest.mark.parametrize("suffix", [".mkv", ".mp4", ".webm"])
+def test_svt_av1_parts_are_joined_and_quiet_says_nothing(workdir, suffix):
+    """The join added the output's stream by the part's decoder's name as an encoder's
+    (libdav1d: an internal 'UnknownCodecError' after the whole render), and SVT-AV1 printed
+    its 20-line banner through --quiet."""
+    make_clip(workdir / "in.mp4", frames=12, audio=False)
+    code, out, err = run(None, "video", "in.mp4", "-o", f"av1{suffix}", "--segment", SEG,
+                         "--codec", "libsvtav1", "--quiet", *ROTATE)  # fmt: skip
+    assert code == 0 and err == "", err
+    assert out.startswith(f"wrote av1{suffix}")
+    ms = [round(float(t), 3) for t in exact_times("in.mp4")]  # Matroska keeps milliseconds
+    assert [round(float(t), 3) for t in exact_times(f"av1{suffix}")] == ms  # every frame
+    with av.open(f"av1{suffix}") as c:
+        assert c.streams.video[0].codec_context.codec.canonical_name == "av1"
+    assert not Path(f"av1{suffix}.parts").exists()

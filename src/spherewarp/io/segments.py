@@ -1172,7 +1172,9 @@ def join(
         for rank in ranks:
             offsets.append(offsets[-1] + len(rank))
         with av.open(str(output), "w", format=format, options=mux_options(format, tb)) as dst:
-            vout = dst.add_stream_from_template(template)
+            # opaque: the part's codec parameters as they are (not an encoder looked up by
+            # its decoder's name: libdav1d, an AV1 part's, is no encoder)
+            vout = dst.add_stream_from_template(template, opaque=True)
             vout.time_base = tb
             copies = {} if src is None else copy_streams(src, dst, vin)
             if src is not None:

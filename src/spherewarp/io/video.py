@@ -141,6 +141,10 @@ def encoder_options(enc: Any, crf: float | None, preset: str | None) -> dict[str
         options["x265-params"] = "log-level=error"
     if enc.name in ("libvpx", "libvpx-vp9"):
         options["b"] = "0"  # constant quality: crf alone
+    if enc.name == "libsvtav1":
+        # SVT-AV1 has no option for it: its library reads SVT_LOG (1: errors) once, when its
+        # first encoder opens; without it, a 20-line banner on stderr (x265's: log-level)
+        os.environ.setdefault("SVT_LOG", "1")
     return options
 
 
