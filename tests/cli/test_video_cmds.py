@@ -8,10 +8,11 @@ import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
-from _cli import ok, run
+from _cli import fails, ok, run
 
 from spherewarp.io.video import probe
 from videoclip import make_clip
@@ -447,3 +448,15 @@ def test_cropped_equirectangular_bounds_are_refused(workdir, bounds, stereo, wha
     err = fails(None, "video", src.name, "-o", "o.mp4", *extra, "rotate", "--yaw", "90")
     assert what in err and "bounds" in err and "not 2:1" not in err
     assert not os.path.exists("o.mp4")
+
+
+@pytest.mark.parametrize(
+    "out, codec, says",
+    [("u.mkv", "utvideo", "choose another --codec"), ("q.mp4", "qtrle", "write .mov")],
+)
+def test_a_codec_the_container_cannot_hold_is_refused_in_one_line(clip, out, codec, says):
+    """utvideo into .mkv (PyAV writes it into none of the containers) and qtrle into .mp4
+    failed with an internal error after the first segment, leaving OUT.parts/."""
+    err = fails(None, "video", clip.name, "-o", out, "--codec", codec, "rotate", "--yaw", "9")
+    assert f"--codec {codec}: " in err and "cannot hold" in err and says in err, err
+    assert not Path(out).exists() and not Path(f"{out}.parts").exists()

@@ -9,9 +9,10 @@ starts on a keyframe), into a work directory beside the output, ``OUT.parts/``:
   options: ``identity``), the segments' boundaries (frame indices and presentation
   times) and the segments done;
 * each segment is written atomically (``seg-00003-1a2b3c4d.mp4``: its index and the
-  first digits of ``identity``'s hash), so a half-written one is never joined, nor one
-  that a task of an earlier render (of a client killed with other options) writes late,
-  and is added to the manifest once whole;
+  first digits of ``identity``'s hash; in the output's own kind of container, which holds
+  its codec: ``.mkv`` for a Matroska or WebM output, ``.mov`` for a MOV one), so a
+  half-written one is never joined, nor one that a task of an earlier render (of a client
+  killed with other options) writes late, and is added to the manifest once whole;
 * when all are done they are joined without re-encoding (PyAV remuxes their
   packets), the input's audio (and other copyable streams) is muxed back with its
   packets as they are, the spherical metadata is written, the output is moved into
@@ -90,6 +91,7 @@ __all__ = [
     "join",
     "local_name",
     "mux_options",
+    "part_suffix",
     "parts_dir",
     "plan_segments",
     "refuse_existing",
@@ -106,8 +108,12 @@ __all__ = [
 DEFAULT_SEGMENT_SECONDS = 10.0
 _MANIFEST = "manifest.json"
 _VERSION = 1
-_PART_FORMAT = "mp4"  # keeps every pts and dts (an edit list for a B-frame delay)
-_SEG = rf"seg-\d{{5,}}(?:-[0-9a-f]{{8}})?\.{_PART_FORMAT}"
+#: the extension of the segments of an output of each muxer: its own container, which holds
+#: its codec (MP4 holds no utvideo, nor MOV's qtrle in MP4...); an MP4/MOV part keeps every pts
+#: and dts (an edit list for a B-frame delay), a Matroska one milliseconds, which the join
+#: replaces with the input's times
+_PART_SUFFIX = {"mp4": ".mp4", "mov": ".mov", "matroska": ".mkv", "webm": ".mkv"}
+_SEG = r"seg-\d{5,}(?:-[0-9a-f]{8})?\.(?:mp4|mov|mkv)"
 #: the names spherewarp writes in a work folder, and so may remove: the manifest, the
 #: segments, their temporary files (a local one's: :func:`~spherewarp.io.atomic.temp_name`,
 #: and a temporary file's own, from a writer that writes atomically too; a URL's:
@@ -326,7 +332,7 @@ def _render_segment(
             vin = src.streams.video[0]
             vin.thread_type = "AUTO"
             rate = vin.average_rate or vin.guessed_rate or Fraction(24)
-            with av.open(str(tmp), "w", format=_PART_FORMAT) as dst:
+            with av.open(str(tmp), "w", format=muxer(local_name(job.part))) as dst:
                 vout = add_video_stream(
                     dst, s.codec, rate, s.options, s.size, s.out_pix, vin.time_base,
                     s.color_range, s.colors,
@@ -382,7 +388,7 @@ def writing_part(part: str) -> Iterator[Path]:
         return
     folder = remote.local_copy_dir()
     try:
-        tmp = Path(folder) / _part_name(0)
+        tmp = Path(folder) / _part_name(0, suffix=_suffix(part))
         yield tmp
         remote.put_atomic(tmp, part, fresh=True)
     finally:
@@ -543,28 +549,41 @@ def _is_manifest(text: str | None) -> bool:
 class _Manifest:
     folder: _Folder
     data: dict[str, Any] = field(default_factory=dict)
+    suffix: str = ".mp4"  # the segments' (:func:`part_suffix`)
 
     def save(self) -> None:
         self.folder.write(_MANIFEST, json.dumps(self.data, indent=1) + "\n")
 
     def done(self, index: int) -> bool:
         entry = self.data["done"].get(str(index))
-        if entry is None:
+        if entry is None or entry["file"] != self.part(index):  # another container's: again
             return False
         return self.folder.size(entry["file"]) == entry["bytes"]
 
     def part(self, index: int) -> str:
         """The file name of segment ``index`` of this render."""
-        return _part_name(index, self.data["options"])
+        return _part_name(index, self.data["options"], self.suffix)
 
     def mark(self, index: int, size: int) -> None:
         self.data["done"][str(index)] = {"file": self.part(index), "bytes": size}
         self.save()
 
 
-def _part_name(index: int, options: str = "") -> str:
+def _part_name(index: int, options: str = "", suffix: str = ".mp4") -> str:
     tag = f"-{options[:8]}" if options else ""
-    return f"seg-{index:05d}{tag}.{_PART_FORMAT}"
+    return f"seg-{index:05d}{tag}{suffix}"
+
+
+def part_suffix(output: str | os.PathLike[str]) -> str:
+    """The extension of the segments of ``output`` (a path or a URL): a container that holds
+    whatever codec the output's does (Matroska for ``.mkv`` and ``.webm``, MOV for ``.mov``).
+
+    Examples
+    --------
+    >>> part_suffix("a.mp4"), part_suffix("a.m4v"), part_suffix("a.webm"), part_suffix("a.MOV")
+    ('.mp4', '.mp4', '.mkv', '.mov')
+    """
+    return _PART_SUFFIX[muxer(local_name(output))]
 
 
 def _open_manifest(
@@ -574,10 +593,12 @@ def _open_manifest(
     identity: str,
     segments: list[dict[str, Any]],
     resume: bool,
+    suffix: str = ".mp4",
 ) -> _Manifest:
     """The manifest to render by: the one found with ``resume`` (refused if it was made for
     another input or other options), else a fresh one (old parts removed). ``source``
-    describes the input (``name`` names it in messages), ``segments`` the boundaries."""
+    describes the input (``name`` names it in messages), ``segments`` the boundaries,
+    ``suffix`` the segments' extension (:func:`part_suffix`)."""
     data = {
         "spherewarp_segments": _VERSION,
         "input": source,
@@ -586,7 +607,7 @@ def _open_manifest(
         "segments": segments,
         "done": {},
     }
-    m = _Manifest(work, data)
+    m = _Manifest(work, data, suffix)
     text = work.read(_MANIFEST) if resume else None
     if text is not None:
         try:
@@ -968,8 +989,9 @@ def run_segments(
     ranges = [(g["start"], g["end"]) for g in plan.segments]
     with _writing(output):
         manifest = _open_manifest(
-            work, plan.source, plan.name, plan.identity, plan.segments, resume
-        )
+            work, plan.source, plan.name, plan.identity, plan.segments, resume,
+            part_suffix(output),
+        )  # fmt: skip
     todo = [
         plan.job(i, work.file(manifest.part(i))) for i in range(len(ranges)) if not manifest.done(i)
     ]
@@ -1175,6 +1197,9 @@ def join(
             # opaque: the part's codec parameters as they are (not an encoder looked up by
             # its decoder's name: libdav1d, an AV1 part's, is no encoder)
             vout = dst.add_stream_from_template(template, opaque=True)
+            # the part's tag, valid in the output (a part is in its kind of container): PyAV
+            # clears it, and Matroska then refuses rawvideo (its tag says the pixel format)
+            vout.codec_context.codec_tag = template.codec_context.codec_tag
             vout.time_base = tb
             copies = {} if src is None else copy_streams(src, dst, vin)
             if src is not None:

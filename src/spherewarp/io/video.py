@@ -154,12 +154,40 @@ def default_codec(output: Path) -> str:
 
 
 def check_container(enc: Any, output: Path) -> None:
-    """Refuse a video codec the output's container cannot hold (WebM: VP8, VP9, AV1)."""
-    if muxer(output) == "webm" and not any(v in enc.name for v in _WEBM_VIDEO + ("vpx",)):
+    """Refuse a video codec the output's container cannot hold (WebM: VP8, VP9, AV1; MP4 no
+    qtrle; none that PyAV writes holds utvideo or huffyuv), naming those that hold it."""
+    mux = muxer(output)
+    if mux == "webm" and not any(v in enc.name for v in _WEBM_VIDEO + ("vpx",)):
         raise InvalidValueError(
             f"--codec {enc.name}: a WebM file holds VP8, VP9 or AV1 video; use --codec "
             "libvpx-vp9 (or libvpx, libsvtav1), or write .mkv"
         )
+    if _holds(mux, enc.name):
+        return
+    others = [e for e in (".mp4", ".mov", ".mkv") if _holds(muxer(Path("x" + e)), enc.name)]
+    where = f"write {' or '.join(others)}" if others else "choose another --codec"
+    raise InvalidValueError(
+        f"--codec {enc.name}: {_CONTAINER_NAMES[mux]} file cannot hold {enc.name} video "
+        f"(as FFmpeg writes it); {where}"
+    )
+
+
+def _holds(mux: str, codec: str) -> bool:
+    """Whether PyAV adds a stream of the encoder ``codec`` to a ``mux`` file (FFmpeg's
+    ``avformat_query_codec``: nothing is encoded nor written)."""
+    import io
+
+    import av
+
+    container = av.open(io.BytesIO(), "w", format=mux)
+    try:
+        container.add_stream(codec)
+    except ValueError:
+        return False
+    finally:
+        with contextlib.suppress(Exception):  # nothing written: closing may complain
+            container.close()
+    return True
 
 
 FrameMap = Callable[[float], tuple[SphereMap, dict[str, Any]]]
