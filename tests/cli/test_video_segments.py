@@ -431,3 +431,27 @@ def test_resume_of_a_matroska_output_reuses_its_matroska_parts(clip):
     assert not Path("cut.mkv.parts").exists()
     assert packets("cut.mkv", "video") == packets("whole.mkv", "video")
     assert ms_times("cut.mkv") == ms_times("whole.mkv") and len(times("cut.mkv")) == 48
+
+
+def ffprobe_rates(path) -> tuple[str, str]:
+    """The first video stream's r_frame_rate and avg_frame_rate, as ffprobe reads them."""
+    import shutil
+
+    text = subprocess.run(
+        [shutil.which("ffprobe") or "ffprobe", "-v", "error", "-select_streams", "v:0",
+         "-show_entries", "stream=r_frame_rate,avg_frame_rate", "-of", "json", str(path)],
+        check=True, capture_output=True, text=True,
+    ).stdout  # fmt: skip
+    stream = json.loads(text)["streams"][0]
+    return stream["r_frame_rate"], stream["avg_frame_rate"]
+
+
+@pytest.mark.skipif(__import__("shutil").which("ffprobe") is None, reason="no ffprobe")
+@pytest.mark.parametrize("source", ["in.mp4", "in.mkv"])
+def test_a_matroska_output_says_the_inputs_frame_rate(workdir, source):
+    """The joined Matroska file's DefaultDuration was its time base's tick (1/12288 s from an
+    MP4 input, 1 ms from a Matroska one): ffprobe read 12288 or 1000 fps for a 12 fps clip."""
+    make_clip(workdir / source, frames=12, rate=12)
+    ok(None, "video", source, "-o", "out.mkv", "--segment", SEG, "--quiet", *ROTATE)
+    assert ffprobe_rates("out.mkv") == ("12/1", "12/1")
+    assert len(times("out.mkv")) == 12

@@ -1201,6 +1201,10 @@ def join(
             # clears it, and Matroska then refuses rawvideo (its tag says the pixel format)
             vout.codec_context.codec_tag = template.codec_context.codec_tag
             vout.time_base = tb
+            # the stream's frame rate (Matroska's DefaultDuration; else the time base's:
+            # 12288 fps for a 12 fps MP4 input), the input's as FFmpeg guesses it
+            rate = None if vin is None else vin.average_rate or vin.guessed_rate
+            vout.codec_context.framerate = rate or 1 / tb
             copies = {} if src is None else copy_streams(src, dst, vin)
             if src is not None:
                 keep_metadata(src, dst, vin, vout, copies, end)
