@@ -460,3 +460,14 @@ def test_a_codec_the_container_cannot_hold_is_refused_in_one_line(clip, out, cod
     err = fails(None, "video", clip.name, "-o", out, "--codec", codec, "rotate", "--yaw", "9")
     assert f"--codec {codec}: " in err and "cannot hold" in err and says in err, err
     assert not Path(out).exists() and not Path(f"{out}.parts").exists()
+
+
+@pytest.mark.parametrize("out", ["h.mov", "h.mp4"])
+def test_hevc_in_mp4_and_mov_is_tagged_hvc1(clip, out):
+    """HEVC was always tagged hev1, which Apple's players refuse; hvc1 as ffmpeg -tag:v hvc1
+    writes it. Every frame still decodes."""
+    ok(None, "video", clip.name, "-o", out, "--codec", "libx265", "--quiet", "rotate", "--yaw",
+       "9")  # fmt: skip
+    with av.open(out) as c:
+        assert c.streams.video[0].codec_context.codec_tag == "hvc1"
+    assert len(frames(out)) == 12

@@ -402,6 +402,9 @@ def add_video_stream(
         (:func:`output_colors`; unspecified ones are left out); RGB frames are converted
         with that matrix (:func:`encode`).
 
+    HEVC in an MP4/MOV file is tagged ``hvc1`` (parameter sets in the sample entry), as
+    ``ffmpeg -tag:v hvc1`` writes it: Apple's players refuse FFmpeg's default ``hev1``.
+
     Returns
     -------
     av.video.stream.VideoStream
@@ -420,6 +423,8 @@ def add_video_stream(
     ):
         if value != unset:
             setattr(cc, tag, value)
+    if dst.format.name in ("mp4", "mov") and vout.codec_context.codec.canonical_name == "hevc":
+        vout.codec_context.codec_tag = "hvc1"  # FFmpeg's default, hev1, Apple's players refuse
     return vout
 
 
