@@ -471,3 +471,16 @@ def test_hevc_in_mp4_and_mov_is_tagged_hvc1(clip, out):
     with av.open(out) as c:
         assert c.streams.video[0].codec_context.codec_tag == "hvc1"
     assert len(frames(out)) == 12
+
+
+def test_crf_for_an_encoder_without_one_is_refused(clip):
+    """--crf was silently ignored by an encoder without a constant rate factor: mpeg4 with
+    --crf 2 and --crf 60 wrote the same bytes. Refused in one line naming --crf; without it,
+    mpeg4 encodes."""
+    err = fails(None, "video", clip.name, "-o", "m.mp4", "--codec", "mpeg4", "--crf", "2",
+                "rotate", "--yaw", "9")  # fmt: skip
+    assert err.startswith("spherewarp: error: --crf: mpeg4 has no constant rate factor"), err
+    assert not Path("m.mp4").exists() and not Path("m.mp4.parts").exists()
+    ok(None, "video", clip.name, "-o", "m.mp4", "--codec", "mpeg4", "--quiet", "rotate", "--yaw",
+       "9")  # fmt: skip
+    assert len(frames("m.mp4")) == 12

@@ -130,8 +130,20 @@ def muxer_takes(stream: Any, mux: str) -> bool:
 
 def encoder_options(enc: Any, crf: float | None, preset: str | None) -> dict[str, str]:
     """The encoder's options: ``crf`` (default: the codec's own, x264 18, x265 20...),
-    ``preset``, and the codec's quiet or constant-quality switches."""
+    ``preset``, and the codec's quiet or constant-quality switches.
+
+    Raises
+    ------
+    InvalidValueError
+        For a ``crf`` given to an encoder without a constant rate factor (mpeg4, ffv1...),
+        which FFmpeg would silently ignore.
+    """
     options: dict[str, str] = {}
+    if crf is not None and not _has_option(enc, "crf"):
+        raise InvalidValueError(
+            f"--crf: {enc.name} has no constant rate factor; leave --crf out, or use --codec "
+            "libx264, libx265, libvpx-vp9 or libsvtav1"
+        )
     crf = _DEFAULT_CRF.get(enc.name) if crf is None else crf
     if crf is not None:
         options["crf"] = f"{crf:g}"
@@ -146,6 +158,13 @@ def encoder_options(enc: Any, crf: float | None, preset: str | None) -> dict[str
         # first encoder opens; without it, a 20-line banner on stderr (x265's: log-level)
         os.environ.setdefault("SVT_LOG", "1")
     return options
+
+
+def _has_option(enc: Any, name: str) -> bool:
+    """Whether the encoder ``enc`` has its own option ``name`` (``crf``, ``preset``)."""
+    import av
+
+    return any(o.name == name for o in av.CodecContext.create(enc).supported_options.private)
 
 
 def default_codec(output: Path) -> str:
