@@ -8,6 +8,7 @@ import signal
 import subprocess
 import sys
 import time
+from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
@@ -484,3 +485,22 @@ def test_crf_for_an_encoder_without_one_is_refused(clip):
     ok(None, "video", clip.name, "-o", "m.mp4", "--codec", "mpeg4", "--quiet", "rotate", "--yaw",
        "9")  # fmt: skip
     assert len(frames("m.mp4")) == 12
+
+
+def test_mpeg2_encodes_a_12_fps_mp4_and_mpeg1_refuses_it_naming_its_rate(workdir):
+    """The encoder got the stream's time base (1/12288 s in a 12 fps MP4 file) as its frame
+    rate: 'MPEG-1/2 does not support 12288/1 fps; check --preset, --crf and --pix-fmt'. MPEG-1/2
+    encode in a time base of one frame: MPEG-2 takes 12 fps (24/2), MPEG-1 does not, and its
+    refusal names the input's rate."""
+    make_clip(workdir / "in.mp4", frames=6, rate=12)
+    assert probe("in.mp4").time_base == Fraction(1, 12288)
+    ok(None, "video", "in.mp4", "-o", "m2.mp4", "--codec", "mpeg2video", "--quiet", "rotate",
+       "--yaw", "9")  # fmt: skip
+    assert len(frames("m2.mp4")) == 6 and probe("m2.mp4").rate == 12
+    with av.open("m2.mp4") as c, av.open("in.mp4") as i:
+        assert sorted(p.pts for p in c.demux(video=0) if p.size) == sorted(
+            p.pts for p in i.demux(video=0) if p.size
+        )  # every frame at its time
+    err = fails(None, "video", "in.mp4", "-o", "m1.mp4", "--codec", "mpeg1video", "rotate")
+    assert "--codec mpeg1video: it does not take the input's 12 fps" in err, err
+    assert "12288" not in err and not Path("m1.mp4").exists()

@@ -62,6 +62,9 @@ _WEBM_VIDEO = ("vp8", "vp9", "av1")
 _QUEUE = 4  # frames in flight between two stages
 _DEFAULT_CRF = {"libx264": 18, "libx265": 20, "libvpx-vp9": 31, "libsvtav1": 35}
 _HIGH_DEPTH_RGB = "rgb48le"
+#: the encoders that take their frame rate from their time base, so encode in one of a frame
+#: (MPEG-1/2: 1/12288 s read as 12288 fps, refused); the frames are rescaled into it
+_FRAME_TIME_BASE = ("mpeg1video", "mpeg2video")
 #: the kinds of streams (besides the warped video) copied packet for packet where the
 #: output's muxer takes them
 _COPIED_KINDS = ("audio", "subtitle")
@@ -432,7 +435,7 @@ def add_video_stream(
     vout.height, vout.width = size
     vout.pix_fmt = pix_fmt
     vout.time_base = time_base
-    vout.codec_context.time_base = time_base
+    vout.codec_context.time_base = encoder_time_base(codec, time_base, rate)
     vout.thread_type = "AUTO"
     if color_range != RANGE_UNSPECIFIED:
         vout.codec_context.color_range = color_range
@@ -445,6 +448,22 @@ def add_video_stream(
     if dst.format.name in ("mp4", "mov") and vout.codec_context.codec.canonical_name == "hevc":
         vout.codec_context.codec_tag = "hvc1"  # FFmpeg's default, hev1, Apple's players refuse
     return vout
+
+
+def encoder_time_base(codec: str, time_base: Fraction, rate: Fraction | None) -> Fraction:
+    """The encoder's time base: the stream's, or one frame (``1 / rate``) for an encoder that
+    reads its frame rate from it (MPEG-1/2, :data:`_FRAME_TIME_BASE`).
+
+    Examples
+    --------
+    >>> encoder_time_base("mpeg2video", Fraction(1, 12288), Fraction(12))
+    Fraction(1, 12)
+    >>> encoder_time_base("libx264", Fraction(1, 12288), Fraction(12))
+    Fraction(1, 12288)
+    """
+    if codec in _FRAME_TIME_BASE and rate:
+        return 1 / Fraction(rate)
+    return time_base
 
 
 def encode(vout: Any, frame: Any) -> list[Any]:
@@ -645,8 +664,8 @@ def _check_encoder(
     cc.pix_fmt = pix
     if color_range != RANGE_UNSPECIFIED:
         cc.color_range = color_range
-    cc.time_base = info.time_base
     cc.framerate = info.rate or Fraction(24)
+    cc.time_base = encoder_time_base(enc.name, info.time_base, cc.framerate)
     cc.options = dict(options)
     level = av.logging.get_level()
     av.logging.set_level(av.logging.ERROR)  # PyAV's handler, so that Capture sees the messages
@@ -655,6 +674,12 @@ def _check_encoder(
             cc.open()
     except av.error.FFmpegError as exc:
         said = "; ".join(str(m[2]).strip() for m in logs if m[0] <= av.logging.ERROR)
+        if enc.name in _FRAME_TIME_BASE and "fps" in said:  # the input's rate, not an option
+            raise InvalidValueError(
+                f"--codec {enc.name}: it does not take the input's {cc.framerate} fps (MPEG-1 "
+                "takes 23.976, 24, 25, 29.97, 30, 50, 59.94 and 60 fps, MPEG-2 also some "
+                "fractions of them); choose another --codec, e.g. libx264"
+            ) from None
         raise InvalidValueError(
             f"{enc.name} refused its options ({said or exc.strerror}); "
             "check --preset, --crf and --pix-fmt"
