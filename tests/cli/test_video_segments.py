@@ -455,3 +455,31 @@ def test_a_matroska_output_says_the_inputs_frame_rate(workdir, source):
     ok(None, "video", source, "-o", "out.mkv", "--segment", SEG, "--quiet", *ROTATE)
     assert ffprobe_rates("out.mkv") == ("12/1", "12/1")
     assert len(times("out.mkv")) == 12
+
+
+def test_a_truncated_recording_gives_its_whole_frames_with_one_warning(clip):
+    """A recording cut short (its index at the front, 'faststart', and its data cut in the middle
+    of a frame) failed with an internal 'segment 0 gave 28 frames, expected 31': the frame cut
+    short was counted, and decoding it stopped the decoder. The whole frames are rendered,
+    each at its time, with one warning that the input ends early."""
+    with av.open(clip.name) as i, av.open("fast.mp4", "w", options={"movflags": "faststart"}) as o:
+        copies = {s.index: o.add_stream_from_template(s) for s in i.streams}
+        for p in i.demux():
+            if p.dts is not None:
+                p.stream = copies[p.stream_index]
+                o.mux(p)
+    with av.open("fast.mp4") as c:
+        video = [(p.pos, p.size, p.pts) for p in c.demux(c.streams.video[0]) if p.size]
+    pos, size, _ = video[40]
+    cut = pos + size // 2  # in the middle of the 41st frame's data
+    Path("cut.mp4").write_bytes(Path("fast.mp4").read_bytes()[:cut])
+    whole = sorted(t for p, n, t in video if p + n <= cut)
+    assert 30 < len(whole) <= 40
+    code, _, err = run(None, "video", "cut.mp4", "-o", "out.mp4", "--segment", SEG, "--quiet",
+                       *ROTATE)  # fmt: skip
+    assert code == 0, err
+    assert err.count("\n") == 1 and "'cut.mp4' ends early" in err, err
+    with av.open("cut.mp4") as c:
+        tb = c.streams.video[0].time_base
+    assert exact_times("out.mp4") == [t * tb for t in whole]
+    assert len(frames("out.mp4")) == len(whole)

@@ -51,6 +51,7 @@ import json
 import math
 import os
 import re
+import warnings
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -78,6 +79,7 @@ from .video import (
     output_spherical,
     pipeline,
     prepare,
+    whole,
 )
 
 __all__ = [
@@ -150,12 +152,20 @@ def parts_dir(output: str | os.PathLike[str]) -> Any:
 def frame_times(input: str | os.PathLike[str]) -> tuple[list[int], Fraction]:
     """The presentation times of the frames of ``input``'s first video stream (in its time
     base, sorted: presentation order) and the time base; read from the packets, nothing is
-    decoded."""
+    decoded. A packet read short (a truncated file's last) is no frame: it is left out, with
+    a warning (:func:`~spherewarp.io.video.whole`)."""
     path = input if is_url(input) else Path(input)
     with _open(path) as c:
         vin = _video_stream(c, path)
-        pts = [p.pts for p in c.demux(vin) if p.pts is not None and p.size]
-        return sorted(pts), vin.time_base
+        packets = [p for p in c.demux(vin) if p.pts is not None and p.size]
+        kept = [p.pts for p in whole(packets)]
+        if len(kept) < len(packets):
+            warnings.warn(
+                f"'{input}' ends early (truncated?): its last frame is cut short and left out; "
+                f"the {len(kept)} whole frames are rendered",
+                stacklevel=2,
+            )
+        return sorted(kept), vin.time_base
 
 
 def segment_frames(seconds: float | None, rate: float) -> int:
@@ -368,9 +378,11 @@ def _render_segment(
         finally:
             for c in opened:
                 c.close()
-        if done != job.frames:
-            raise RuntimeError(
-                f"segment {job.index} of '{job.input}' gave {done} frames, expected {job.frames}"
+        if done != job.frames:  # damaged data the decoder gave no frame for
+            raise ImageFormatError(
+                f"cannot read '{job.input}': its segment {job.index} decodes to {done} frames, "
+                f"not the {job.frames} its packets hold (damaged data?); re-encode it first "
+                "(e.g. ffmpeg -i IN -c:v libx264 OUT.mp4)"
             )
         size = os.path.getsize(tmp)
     return job.index, done, size

@@ -51,6 +51,7 @@ __all__ = [
     "probe",
     "render_video",
     "video_encoders",
+    "whole",
     "VIDEO_EXTENSIONS",
 ]
 
@@ -847,9 +848,20 @@ def frames_from(
             vin.thread_type = "AUTO"
         else:
             container.seek(0, backward=True, any_frame=False)  # the file's start, in AV_TIME_BASE
-    for frame in container.decode(vin):
-        if frame.pts is not None and frame.pts >= start:
-            yield frame
+    for packet in whole(container.demux(vin)):
+        for frame in packet.decode():
+            if frame.pts is not None and frame.pts >= start:
+                yield frame
+
+
+def whole(packets: Iterator[Any]) -> Iterator[Any]:
+    """``packets`` but those FFmpeg reads short (``is_corrupt``: a truncated file's last one),
+    which no frame comes from: decoded, one stopped the decoder ('Invalid data'), or its frame
+    threads dropped the frames before it. :func:`~spherewarp.io.segments.frame_times` counts
+    the frames so too."""
+    for packet in packets:
+        if not (packet.is_corrupt and packet.size):
+            yield packet
 
 
 def _from_keyframe(container: Any, vin: Any, start: int) -> Iterator[Any]:
@@ -857,7 +869,7 @@ def _from_keyframe(container: Any, vin: Any, start: int) -> Iterator[Any]:
     (those before it are dropped); :class:`_Overshot`, before any frame, when that keyframe or
     the first frame decoded comes after ``start`` (or no keyframe comes)."""
     keyed = checked = False
-    for packet in container.demux(vin):
+    for packet in whole(container.demux(vin)):
         if not keyed:
             if not packet.size:  # the end, and no keyframe
                 raise _Overshot
@@ -1326,7 +1338,8 @@ def _transcode(
         wanted = [vin, *(s for s in src.streams if s.index in copies)]
         for packet in src.demux(wanted):
             if packet.stream is vin:
-                yield from packet.decode()
+                if not (packet.is_corrupt and packet.size):  # cut short (:func:`whole`)
+                    yield from packet.decode()
             elif packet.dts is not None:
                 yield packet
 
