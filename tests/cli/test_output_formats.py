@@ -145,3 +145,22 @@ def test_help_tells_the_conversion_policy() -> None:
     text = " ".join(ok(None, "rotate", "--help").split())
     for words in ("--tonemap", "aces", "--exposure", "--background", "--quiet", "16-bit"):
         assert words in text
+
+
+def test_metadata_a_format_cannot_hold_is_said(tmp_path: Path) -> None:
+    """A JPEG's ICC profile and EXIF written to EXR (which holds neither), or its EXIF
+    sub-IFD to TIFF, were dropped in silence: the writer's warning went to the discarded
+    stderr of the C encoders. Now it is one line each."""
+    from PIL import Image, ImageCms
+
+    src = tmp_path / "meta.jpg"
+    exif = Image.Exif()
+    exif[0x010F] = "QA"
+    exif.get_ifd(0x8769)[0x9003] = "2024:01:01 00:00:00"
+    icc = ImageCms.ImageCmsProfile(ImageCms.createProfile("sRGB")).tobytes()
+    Image.open(sample_path()).convert("RGB").save(src, exif=exif.tobytes(), icc_profile=icc)
+    code, _, err = run(None, "rotate", src, "--yaw", "30", "-o", tmp_path / "m.exr")
+    assert code == 0 and err.count("\n") == 1, err
+    assert err.startswith("spherewarp: warning: EXR: ICC profile and EXIF are not stored"), err
+    code, _, err = run(None, "rotate", src, "--yaw", "30", "-o", tmp_path / "m.tif")
+    assert code == 0 and err.count("\n") == 1 and "dropped tags" in err, err

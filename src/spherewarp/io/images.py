@@ -1441,10 +1441,15 @@ def write_image(
         quality=quality,
         full_sphere=g is not None and not g.is_cropped and g.projection_type == "equirectangular",
     )
+    caught: list[warnings.WarningMessage] = []
     try:
         with atomic_file(p, overwrite=overwrite) as tmp:
-            with _quiet_fds():  # C encoders' own messages: the error says what failed
-                _WRITERS[fmt](tmp, arr, meta)
+            # the writer's own warnings (metadata a format cannot hold...) are held while
+            # stderr goes nowhere, then said: they used to be discarded with the C output
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                with _quiet_fds():  # C encoders' own messages: the error says what failed
+                    _WRITERS[fmt](tmp, arr, meta)
     except SpherewarpError:
         raise
     except Exception as exc:
@@ -1453,4 +1458,9 @@ def write_image(
         raise ImageFormatError(
             f"cannot write '{p}': {fmt} encoding or writing failed ({type(exc).__name__}: {exc})"
         ) from exc
+    seen = set()
+    for w in caught:
+        if str(w.message) not in seen:
+            seen.add(str(w.message))
+            warnings.warn(str(w.message), w.category, stacklevel=2)
     return p
