@@ -126,3 +126,37 @@ def test_a_folder_that_cannot_be_made_is_one_error(tmp_path):
     (tmp_path / "file").write_text("x")
     with pytest.raises(ImageFormatError, match="cannot make the folder"):
         run_demo(tmp_path / "file" / "d", size=SIZE, echo=None)
+
+
+def test_a_file_of_the_users_by_the_manifests_name_is_kept(tmp_path):
+    """A .spherewarp-demo.json the demo did not write was replaced by the demo's own."""
+    folder = tmp_path / "d"
+    folder.mkdir()
+    (folder / MANIFEST).write_text('{"my": "own data"}')
+    with pytest.raises(OutputExistsError, match=re.escape(MANIFEST)):
+        run_demo(folder, size=SIZE, supersample=1, effects=DEMO_EFFECTS[:1], echo=None)
+    assert sorted(p.name for p in folder.iterdir()) == [MANIFEST]
+    assert (folder / MANIFEST).read_text() == '{"my": "own data"}'
+    run_demo(folder, size=SIZE, supersample=1, effects=DEMO_EFFECTS[:1], overwrite=True, echo=None)
+    assert "spherewarp demo" in (folder / MANIFEST).read_text()
+
+
+def test_a_folder_made_for_nothing_is_removed(tmp_path, monkeypatch):
+    """A first write that fails (a full disk) left the empty folder the demo had made;
+    a folder that was there before stays."""
+    import errno
+
+    import spherewarp.io as sio
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(sio, "write_image", full)
+    folder = tmp_path / "new" / "demo"
+    with pytest.raises(OSError):
+        run_demo(folder, size=SIZE, supersample=1, effects=DEMO_EFFECTS[:1], echo=None)
+    assert not folder.exists()
+    folder.mkdir()
+    with pytest.raises(OSError):
+        run_demo(folder, size=SIZE, supersample=1, effects=DEMO_EFFECTS[:1], echo=None)
+    assert folder.is_dir()

@@ -26,6 +26,7 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
@@ -310,7 +311,7 @@ def run_demo(
         If a file with a demo file's name exists that the demo did not write,
         and ``overwrite`` is false (nothing is written).
     """
-    from .io import read_image, write_image
+    from .io import read_image
     from .testpattern import make_test_pattern
 
     start = time.perf_counter()
@@ -322,6 +323,8 @@ def run_demo(
     manifest = _read_manifest(out_dir)
     if not overwrite:
         existing = [p for p in targets if p.exists() and not _is_ours(p, manifest)]
+        if _foreign_manifest(out_dir):  # a file of the user's by the manifest's name
+            existing.insert(0, out_dir / MANIFEST)
         if existing:
             more = f" (and {len(existing) - 1} more)" if len(existing) > 1 else ""
             what = f"'{existing[0]}' exists{more} and is not a file the demo wrote; pass"
@@ -340,6 +343,7 @@ def run_demo(
         output_shape=(h, w),
         supersample=supersample,
     )
+    made = not out_dir.exists()
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as exc:  # a read-only place, a file on the way
@@ -347,7 +351,37 @@ def run_demo(
         raise ImageFormatError(
             f"cannot make the folder '{out_dir}' (in '{where}'): {exc.strerror or exc}"
         ) from None
-    written = []
+    written: list[Path] = []
+    try:
+        _write_all(targets, effects, inputs, src, out_dir, manifest, written, echo)
+    except BaseException:
+        if made and not written:  # a folder it made for nothing (a full disk...): gone
+            with contextlib.suppress(OSError):
+                (out_dir / MANIFEST).unlink(missing_ok=True)
+                out_dir.rmdir()
+        raise
+    if echo is not None:
+        echo(
+            f"{len(written)} images in {out_dir}/ in {time.perf_counter() - start:.1f} s "
+            "(open them in any 360° viewer; the panoramas carry GPano metadata)"
+        )
+    return written
+
+
+def _write_all(
+    targets: list[Path],
+    effects: list[DemoEffect],
+    inputs: DemoInputs,
+    src: Any,
+    out_dir: Path,
+    manifest: dict[str, str],
+    written: list[Path],
+    echo: Callable[[str], None] | None,
+) -> None:
+    """Render and write each effect to its target, recording it in the manifest and in
+    ``written`` as it goes."""
+    from .io import write_image
+
     for target, effect in zip(targets, effects, strict=True):
         pixels = effect.render(inputs)
         write_image(
@@ -363,12 +397,6 @@ def run_demo(
         written.append(target)
         if echo is not None:
             echo(f"wrote {target}  ({effect.description})")
-    if echo is not None:
-        echo(
-            f"{len(written)} images in {out_dir}/ in {time.perf_counter() - start:.1f} s "
-            "(open them in any 360° viewer; the panoramas carry GPano metadata)"
-        )
-    return written
 
 
 def _digest(path: Path) -> str:
@@ -385,6 +413,19 @@ def _read_manifest(directory: Path) -> dict[str, str]:
     if not isinstance(files, dict):
         return {}
     return {str(k): str(v) for k, v in files.items()}
+
+
+def _foreign_manifest(directory: Path) -> bool:
+    """True if ``directory`` holds a file by the manifest's name that the demo did not
+    write (not its JSON, ``"written_by": "spherewarp demo"``)."""
+    path = directory / MANIFEST
+    if not os.path.lexists(path):
+        return False
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return True
+    return not (isinstance(data, dict) and data.get("written_by") == "spherewarp demo")
 
 
 def _is_ours(path: Path, manifest: dict[str, str]) -> bool:
