@@ -5,7 +5,7 @@ with one that, after copying the package, runs ``python -m
 spherewarp.render._warmup`` on the copy. Numba's cache files (``.nbi``,
 ``.nbc``) land in ``spherewarp/render/__pycache__`` of the build and so in the
 wheel, and the first command after ``pip install`` loads them instead of
-compiling for a minute. Numba keys them by the contents of the source, its
+compiling for minutes. Numba keys them by the contents of the source, its
 own version, the Python version and the CPU, so they are used where the
 wheel was built (``pip install .``) and ignored elsewhere (then the first
 render compiles, saying so).
@@ -39,7 +39,7 @@ def warm_up(root: Path) -> bool:
     env["PYTHONPATH"] = os.pathsep.join([str(root), env.get("PYTHONPATH", "")]).rstrip(os.pathsep)
     env["PYTHONDONTWRITEBYTECODE"] = "1"  # no .pyc of the build Python in the wheel
     cmd = [sys.executable, "-m", "spherewarp.render._warmup"]
-    print(f"spherewarp: compiling the kernels into {root} (about a minute) ...", flush=True)
+    print(f"spherewarp: compiling the kernels into {root} (a few minutes, once) ...", flush=True)
     t0 = time.perf_counter()
     try:
         done = subprocess.run(cmd, env=env, cwd=root, timeout=WARMUP_TIMEOUT_S, check=False)

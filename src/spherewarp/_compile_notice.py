@@ -1,9 +1,9 @@
-"""One line on stderr when numba compiles the kernels (instead of a silent minute).
+"""One line on stderr when numba compiles the kernels (instead of silent minutes).
 
 The compiled kernels are normally loaded from numba's on-disk cache, which
 the package build fills (see :mod:`spherewarp.render._warmup`). When the cache
 does not fit (another CPU, another numba version) the first render compiles
-for about a minute; numba then broadcasts a ``"numba:compile"`` event, which
+for a few minutes; numba then broadcasts a ``"numba:compile"`` event, which
 happens only on a cache miss. The command line calls :func:`enable` so that
 the first such event in a process prints :data:`MESSAGE` once; the library
 alone prints nothing.
@@ -21,7 +21,7 @@ from typing import Any, TextIO
 __all__ = ["MESSAGE", "disable", "enable", "install"]
 
 #: the line printed on the first compilation in a process
-MESSAGE = "spherewarp: compiling kernels, once after install (about a minute) ..."
+MESSAGE = "spherewarp: compiling kernels, once after install (a few minutes) ..."
 
 _STATE: dict[str, Any] = {"stream": None, "shown": False, "listener": None}
 

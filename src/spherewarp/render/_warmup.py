@@ -2,7 +2,7 @@
 
 The compiled kernels (:mod:`spherewarp.render._kernels`) are kept in numba's
 on-disk cache. The first render after an install would otherwise compile
-them (about a minute, once); this module renders tiny images through every
+them (a few minutes, once); this module renders tiny images through every
 kernel entry point so that the cache is filled up front. The package build
 (``setup.py``) runs it on the freshly copied package, so a wheel ships the
 cache files of the machine that built it and a first ``spherewarp`` command
