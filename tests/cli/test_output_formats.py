@@ -164,3 +164,27 @@ def test_metadata_a_format_cannot_hold_is_said(tmp_path: Path) -> None:
     assert err.startswith("spherewarp: warning: EXR: ICC profile and EXIF are not stored"), err
     code, _, err = run(None, "rotate", src, "--yaw", "30", "-o", tmp_path / "m.tif")
     assert code == 0 and err.count("\n") == 1 and "dropped tags" in err, err
+
+
+def test_a_cropped_panorama_turned_has_no_dark_outline(tmp_path: Path) -> None:
+    """The uncovered part of a cropped panorama is transparent black; filtered straight,
+    the crop's edge pixels came out partly transparent and darkened (to about 0.36 x
+    their colour: a dark outline). Filtered premultiplied, they keep the crop's colour."""
+    crop = np.empty((40, 80, 3), np.uint8)
+    crop[...] = (180, 170, 160)
+    g = GPano(
+        full_width=256,
+        full_height=128,
+        cropped_width=80,
+        cropped_height=40,
+        cropped_left=60,
+        cropped_top=30,
+    )
+    src = write_image(tmp_path / "crop.png", crop, gpano=g)
+    out = tmp_path / "turned.png"
+    ok(None, "rotate", src, "--yaw", "30", "--pitch", "10", "-o", out, "-q")
+    px = read_image(out).pixels
+    seen = px[..., 3] > 0
+    assert ((px[..., 3] > 0) & (px[..., 3] < 255)).sum() > 100
+    assert np.all(px[seen][:, :3] == (180, 170, 160))
+

@@ -64,6 +64,20 @@ def test_apply_is_warp_bit_for_bit(m, antialias, dtype):
             np.testing.assert_array_equal(wm.apply(img, **kw), want)
 
 
+@pytest.mark.parametrize("m", MAPS, ids=["rotation", "zoom", "composite"])
+@pytest.mark.parametrize("dtype", [np.uint8, np.uint16, np.float32])
+def test_transparent_images_are_warp_bit_for_bit(m, dtype):
+    """Alpha is filtered premultiplied in the still and in cached frames alike."""
+    img = _image((32, 64, 4), dtype, seed=5)
+    img[:, 10:30, 3] = 0
+    gray = np.ascontiguousarray(img[..., 2:])
+    for interp in ("bilinear", "bicubic"):
+        wm = WarpMap(m, (32, 64), interp=interp)
+        for im in (img, gray):
+            for kw in ({}, {"background": 7}):
+                np.testing.assert_array_equal(wm.apply(im, **kw), warp(im, m, interp=interp, **kw))
+
+
 @pytest.mark.parametrize("interp", ["nearest", "bicubic"])
 def test_other_interpolations_bit_for_bit(interp):
     for dtype in (np.uint8, np.float32):

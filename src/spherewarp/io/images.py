@@ -28,7 +28,9 @@ direction.
 
 Pixel arrays are always ``(H, W, C)`` with ``C`` in 1..4 (grey is ``C = 1``,
 grey+alpha ``C = 2``), dtype uint8, uint16 or float32. Alpha is straight
-(unassociated). EXIF orientation is not applied: pixels are returned as stored.
+(unassociated) in files and arrays (the renderer filters it premultiplied:
+:func:`~spherewarp.render.plan.render_straight_alpha`). EXIF orientation is not
+applied: pixels are returned as stored.
 
 Libraries: Pillow for 8-bit PNG decoding, JPEG and WebP and for reading PNG
 metadata; ``imagecodecs`` (libpng) for PNG encoding and 16-bit PNG decoding,

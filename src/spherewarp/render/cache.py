@@ -27,7 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 from .._shape import whole_pair
 from ..errors import InvalidTypeError, InvalidValueError
 from ..maps.base import SphereMap
-from .plan import Options, Plan, _run_taps, output_buffer, plan
+from .plan import Options, Plan, _run_taps, output_buffer, plan, render_straight_alpha
 from .warp import _background, as_image
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -241,7 +241,10 @@ class WarpMap:
         def coords_of(r0: int, r1: int) -> tuple[NDArray, NDArray, NDArray]:
             return self._u[r0:r1], self._v[r0:r1], self._ok[r0:r1]
 
-        _run_taps(p, img, out, bg, None, coords_of)
+        def render(ims: list[NDArray], dst: NDArray, b: NDArray, _progress: Any) -> None:
+            _run_taps(p, ims[0], dst, b, None, coords_of)
+
+        render_straight_alpha(render, [img], out, bg)  # alpha filtered premultiplied
         return out
 
 

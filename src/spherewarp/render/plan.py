@@ -221,7 +221,11 @@ class Plan:
         bg = _background(self.background if background is ... else background, channels)
         add_alpha = (self.alpha if alpha is None else alpha) and channels not in (2, 4)
         out = output_buffer(out, (*self.out_shape, channels + add_alpha), images[0].dtype)
-        p._render(images, out, bg, add_alpha, progress)
+
+        def render(ims: list[NDArray], dst: NDArray, b: NDArray, prog: Any) -> None:
+            p._render(ims, dst, b, add_alpha, prog)
+
+        render_straight_alpha(render, images, out, bg, progress)
         return out
 
     def _render(
@@ -284,6 +288,118 @@ class Plan:
         y, x = np.mgrid[r0:r1, 0:w_out] + 0.5
         pu, pv, pok = grid_points(self, x.reshape(-1), y.reshape(-1), 0.0, 0.0)
         return pu.reshape(shape), pv.reshape(shape), pok.reshape(shape).astype(np.uint8)
+
+
+#: alpha within this share of full scale of full is full, within it of 0 is 0, for
+#: :func:`render_straight_alpha` (one level of uint16; the float32 rounding of a filter's
+#: sum of opaque taps, a few 2**-24, is well within it)
+_ALPHA_EPS = 2.0**-16
+
+
+class _Halves:
+    """``progress`` of two passes over one render: the first pass reports the first half,
+    the second the second half; :meth:`done` reports the whole when the second is skipped."""
+
+    def __init__(self, progress: Callable[[int, int], None] | None) -> None:
+        self.progress = progress
+        self.total = 1
+
+    def first(self, done: int, total: int) -> None:
+        self.total = max(1, int(total))
+        self.progress(done, 2 * self.total)  # type: ignore[misc]
+
+    def second(self, done: int, total: int) -> None:
+        self.progress(self.total + done, 2 * self.total)  # type: ignore[misc]
+
+    def done(self) -> None:
+        if self.progress is not None:
+            self.progress(2 * self.total, 2 * self.total)
+
+
+def render_straight_alpha(
+    render: Callable[[list[NDArray], NDArray, NDArray[np.float32], Any], None],
+    images: list[NDArray],
+    out: NDArray,
+    bg: NDArray[np.float32],
+    progress: Callable[[int, int], None] | None = None,
+) -> None:
+    """Render ``images`` into ``out`` by ``render(images, out, bg, progress)``, filtering
+    an alpha channel premultiplied.
+
+    Images (files too) hold straight alpha: a pixel's colour is its colour whatever its
+    opacity, and a fully transparent pixel may hold any colour. Interpolating and
+    averaging the channels of such pixels separately lets the hidden colour of
+    transparent pixels bleed into every pixel that mixes them with visible ones (a dark
+    outline round a cropped panorama whose uncovered part is black, a red one where the
+    hidden colour is red). Every filter of the render is linear in the samples, so it
+    is done once more on the premultiplied image (colour x alpha, in float32, float64
+    for a float64 image; the background premultiplied too): that pass gives each
+    partly transparent output pixel its colour, the filtered premultiplied colour
+    divided by the filtered alpha (an integer colour rounded and clipped to its range).
+
+    The first pass is the plain render, straight, in the image's own sample type. Its
+    alpha is the output's alpha, and its colour stays where the division has nothing
+    to correct: where the output alpha is full and the filtered one not over full (the
+    two colours differ there by under one level: a transparent share that rounds to
+    full opacity is under half a level of alpha), where either alpha is 0 (nothing is
+    seen; the hidden colour is filtered as before), and, for float images, where the
+    two agree but for float rounding (taps of one alpha). "Full" and "0" are to
+    ``2**-16`` of full scale. So opaque pixels, and a turn by whole pixels, give the
+    same samples as before, to the bit. The second pass is skipped when no output
+    pixel is partly transparent: images without alpha, and opaque ones whose output
+    stays opaque, cost one render.
+
+    Parameters
+    ----------
+    render : callable
+        ``render(images, out, bg, progress)``: one pass of the plan (the still's or a
+        cached map's), the images of any sample type.
+    images : list of ndarray
+        The inputs, ``(H, W, C)`` of one dtype and channel count.
+    out : ndarray
+        The output, ``(h, w, C)`` or ``(h, w, C + 1)`` (an added alpha channel: then
+        there is no alpha in the input and one pass is done).
+    bg : ndarray of float32
+        The background, ``C`` values in the image's units (straight).
+    progress : callable, optional
+        As for :func:`~spherewarp.render.warp`; with two passes, each reports half.
+    """
+    c = images[0].shape[2]
+    if c not in (2, 4) or out.shape[2] != c:
+        render(images, out, bg, progress)
+        return
+    halves = _Halves(progress)
+    render(images, out, bg, halves.first if progress is not None else None)
+    dtype = images[0].dtype
+    full = float(np.iinfo(dtype).max) if dtype.kind in "ui" else 1.0
+    alpha = out[..., c - 1]
+    if np.all((alpha >= full * (1.0 - _ALPHA_EPS)) & (alpha <= full * (1.0 + _ALPHA_EPS))):
+        halves.done()  # opaque throughout: nothing to divide
+        return
+    ftype = np.float64 if dtype == np.float64 else np.float32
+    pm_images = []
+    for im in images:
+        pm = im.astype(ftype)
+        pm[..., : c - 1] *= pm[..., c - 1 :] * ftype(1.0 / full)
+        pm_images.append(pm)
+    pm_bg = np.array(bg, np.float32)
+    pm_bg[: c - 1] *= pm_bg[c - 1] / np.float32(full)
+    pm_out = np.empty(out.shape, ftype)
+    render(pm_images, pm_out, pm_bg, halves.second if progress is not None else None)
+    del pm_images
+    a = pm_out[..., c - 1]
+    fix = (alpha < full * (1.0 - _ALPHA_EPS)) | (a > full * (1.0 + _ALPHA_EPS))  # partly seen,
+    fix &= (alpha > full * _ALPHA_EPS) & (a > 0)  # or over full (bicubic); but not unseen
+    pm = pm_out[fix]
+    straight = out[fix]
+    colour = pm[:, : c - 1] * (ftype(full) / pm[:, c - 1 :])
+    if dtype.kind in "ui":
+        colour = np.clip(np.rint(colour), 0.0, full)
+    else:  # where the two agree but for float rounding (taps of one alpha): the straight
+        kept = straight[:, : c - 1]
+        colour = np.where(np.isclose(colour, kept, rtol=_ALPHA_EPS, atol=0.0), kept, colour)
+    straight[:, : c - 1] = colour
+    out[fix] = straight
 
 
 def output_buffer(out: NDArray | None, shape: tuple[int, ...], dtype: np.dtype) -> NDArray:
