@@ -188,3 +188,52 @@ def test_a_cropped_panorama_turned_has_no_dark_outline(tmp_path: Path) -> None:
     assert ((px[..., 3] > 0) & (px[..., 3] < 255)).sum() > 100
     assert np.all(px[seen][:, :3] == (180, 170, 160))
 
+
+def _smooth_rgb(h: int = 64, w: int = 128, dtype: type = np.uint8) -> np.ndarray:
+    y, x = np.mgrid[0:h, 0:w] / np.array([h, w])[:, None, None]
+    f = np.stack([x, y, 0.5 + 0.5 * np.sin(6 * x + 3 * y)], -1)
+    return np.rint(f * np.iinfo(dtype).max).astype(dtype)
+
+
+def _with_orientation(path: Path, pixels: np.ndarray, orientation: int) -> Path:
+    from PIL import Image
+
+    exif = Image.Exif()
+    exif[0x010F] = "SphereCam"
+    exif[0x0112] = orientation
+    Image.fromarray(pixels).save(path, exif=exif.tobytes(), quality=95)
+    return path
+
+
+def _orientation_and_make(path: Path) -> tuple:
+    from PIL import Image
+
+    with Image.open(path) as im:
+        exif = im.getexif()
+        return exif.get(0x0112), exif.get(0x010F)
+
+
+def test_exif_orientation_is_applied_and_written_as_1(tmp_path: Path) -> None:
+    """A file stored turned 180 degrees with Orientation 3 (shown upright) renders as the
+    upright image; the output says Orientation 1, its other EXIF kept. (The tag was
+    ignored on input and copied to the output: viewers turned the result.)"""
+    up = _smooth_rgb()
+    upright = write_image(tmp_path / "up.png", up)
+    turned = _with_orientation(tmp_path / "o3.png", np.ascontiguousarray(up[::-1, ::-1]), 3)
+    args = ("--yaw", "30", "--pitch", "20", "-q")
+    ok(None, "rotate", upright, *args, "-o", tmp_path / "want.png")
+    ok(None, "rotate", turned, *args, "-o", tmp_path / "got.png")
+    np.testing.assert_array_equal(
+        read_image(tmp_path / "got.png").pixels, read_image(tmp_path / "want.png").pixels
+    )
+    assert _orientation_and_make(tmp_path / "got.png") == (1, "SphereCam")
+    jpg = _with_orientation(tmp_path / "o3.jpg", np.ascontiguousarray(up[::-1, ::-1]), 3)
+    ok(None, "rotate", jpg, *args, "-o", tmp_path / "got.jpg")
+    assert _orientation_and_make(tmp_path / "got.jpg") == (1, "SphereCam")
+    got = read_image(tmp_path / "got.jpg").pixels.astype(float)
+    want = read_image(tmp_path / "want.png").pixels.astype(float)
+    assert 10 * np.log10(255**2 / np.mean((got - want) ** 2)) > 30  # the codec's loss only
+    # Orientation 6: stored turned a quarter, displayed 1:2, which is no panorama
+    six = _with_orientation(tmp_path / "o6.png", up, 6)
+    err = fails(None, "rotate", six, "--yaw", "30", "-o", tmp_path / "x.png")
+    assert "width = 2 x height, got 64x128" in err and "--force" in err

@@ -752,3 +752,65 @@ def test_an_interrupt_while_fds_are_put_back_still_puts_them_back(monkeypatch):
         monkeypatch.setattr(sys, "stdout", Interrupting())
     after = os.fstat(2)
     assert (after.st_dev, after.st_ino) == (before.st_dev, before.st_ino)
+
+
+# -- EXIF orientation ------------------------------------------------------------------------------
+def _oriented_exif(orientation):
+    exif = Image.Exif()
+    exif[0x010F] = "SphereCam"  # Make
+    exif[0x0112] = orientation
+    exif[0x8769] = {0x9003: "2024:01:02 03:04:05"}  # DateTimeOriginal, in the Exif sub-IFD
+    return exif.tobytes()
+
+
+def _exif_view(blob):
+    exif = Image.Exif()
+    exif.load(blob)
+    return exif.get(0x010F), exif.get(0x0112), exif.get_ifd(0x8769).get(0x9003)
+
+
+@pytest.mark.parametrize("orientation", range(1, 9))
+@pytest.mark.parametrize("ext", [".png", ".jpg"])
+def test_exif_orientation_is_applied_on_reading_as_pillow_does(tmp_path, ext, orientation):
+    """The pixels come as viewers show the file (``ImageOps.exif_transpose``); the EXIF
+    keeps its tags, sub-IFDs included, with Orientation 1, the value written back."""
+    from PIL import ImageOps
+
+    px = _random("uint8", 3, shape=(6, 10)) if ext == ".png" else _smooth(3, (16, 24))
+    path = tmp_path / f"o{orientation}{ext}"
+    Image.fromarray(px).save(path, exif=_oriented_exif(orientation), quality=95)
+    with Image.open(path) as im:
+        want = np.asarray(ImageOps.exif_transpose(im))
+    img = read_image(path)
+    np.testing.assert_array_equal(img.pixels, want)
+    assert _exif_view(img.exif) == ("SphereCam", 1, "2024:01:02 03:04:05")
+    if orientation == 1:
+        assert img.exif == _exif_with_header(_oriented_exif(1))
+    out = write_image(tmp_path / f"back{ext}", img.pixels, exif=img.exif)
+    with Image.open(out) as im:
+        assert im.getexif().get(0x0112) == 1  # shown as written, unturned
+
+
+def _exif_with_header(blob):
+    return blob if blob.startswith(b"Exif\x00\x00") else b"Exif\x00\x00" + blob
+
+
+def test_write_image_writes_orientation_1(tmp_path):
+    """Pixels are written as they are displayed: a turning Orientation in the EXIF given
+    would make viewers turn them again; only that value changes, in place."""
+    blob = _exif_with_header(_oriented_exif(6))
+    px = _random("uint8", 3)
+    for ext in (".jpg", ".png", ".webp"):
+        out = write_image(tmp_path / f"w{ext}", px, exif=blob, quality=100)
+        with Image.open(out) as im:
+            assert im.getexif().get(0x0112) == 1 and im.size == (W, H), ext
+    with pytest.warns(UserWarning, match="sub-IFDs"):  # TIFF: the IFD0 tags only
+        out = write_image(tmp_path / "w.tif", px, exif=blob)
+    assert read_image(out).exif is not None and _exif_view(read_image(out).exif)[:2] == (
+        "SphereCam",
+        1,
+    )
+    stored = read_image(tmp_path / "w.png").exif
+    assert len(stored) == len(blob)
+    assert sum(a != b for a, b in zip(stored, blob, strict=True)) == 1  # the value, 6 -> 1
+    assert _exif_view(stored) == ("SphereCam", 1, "2024:01:02 03:04:05")

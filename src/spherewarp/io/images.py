@@ -29,8 +29,13 @@ direction.
 Pixel arrays are always ``(H, W, C)`` with ``C`` in 1..4 (grey is ``C = 1``,
 grey+alpha ``C = 2``), dtype uint8, uint16 or float32. Alpha is straight
 (unassociated) in files and arrays (the renderer filters it premultiplied:
-:func:`~spherewarp.render.plan.render_straight_alpha`). EXIF orientation is not
-applied: pixels are returned as stored.
+:func:`~spherewarp.render.plan.render_straight_alpha`).
+
+EXIF orientation is applied on reading, as Pillow's ``ImageOps.exif_transpose``
+does: the pixels come upright (as viewers display the file; a quarter turn swaps
+width and height), and the EXIF keeps every tag but Orientation, which is set to 1.
+:func:`write_image` writes pixels as they are displayed, so it sets an Orientation
+tag of the ``exif`` it is given to 1 too (a viewer would turn them again).
 
 Libraries: Pillow for 8-bit PNG decoding, JPEG and WebP and for reading PNG
 metadata; ``imagecodecs`` (libpng) for PNG encoding and 16-bit PNG decoding,
@@ -951,6 +956,79 @@ def _checked_exif(p: Path, exif: object) -> bytes | None:
     return blob
 
 
+_ORIENTATION = 0x0112  # EXIF IFD0 tag Orientation
+
+
+def _exif_orientation(exif: bytes) -> int:
+    """The EXIF Orientation (1..8) of a blob (with its header); 1 if absent or invalid."""
+    from PIL import Image
+
+    parsed = Image.Exif()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            parsed.load(exif)
+            value = parsed.get(_ORIENTATION, 1)
+        except Exception:
+            return 1
+    if isinstance(value, tuple) and value:
+        value = value[0]
+    return int(value) if isinstance(value, int) and 1 <= value <= 8 else 1
+
+
+def _exif_upright(exif: bytes) -> bytes:
+    """``exif`` (with its header) with Orientation = 1 where it has another value.
+
+    The value is patched in place in IFD0 (a SHORT entry), so that every other byte,
+    the sub-IFDs and maker notes included, is kept as it was; a blob whose entry
+    cannot be patched so is rewritten by Pillow with the tag set to 1.
+    """
+    if _exif_orientation(exif) == 1:
+        return exif
+    tiff = exif[len(_EXIF_HEADER) :]
+    try:
+        order = {b"II": "<", b"MM": ">"}[tiff[:2]]
+        (ifd,) = struct.unpack(order + "I", tiff[4:8])
+        (count,) = struct.unpack(order + "H", tiff[ifd : ifd + 2])
+        for k in range(count):
+            at = ifd + 2 + 12 * k
+            tag, kind, n = struct.unpack(order + "HHI", tiff[at : at + 8])
+            if tag == _ORIENTATION and kind == 3 and n == 1:  # SHORT, one value, inline
+                patched = tiff[: at + 8] + struct.pack(order + "H", 1) + tiff[at + 10 :]
+                return _EXIF_HEADER + patched
+    except (KeyError, struct.error):
+        pass
+    from PIL import Image
+
+    parsed = Image.Exif()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            parsed.load(exif)
+            parsed[_ORIENTATION] = 1
+            return _exif_with_header(parsed.tobytes()) or exif
+        except Exception:  # kept as it was: Pillow read the tag, so this is not expected
+            return exif
+
+
+def _upright(arr: np.ndarray, exif: bytes) -> tuple[np.ndarray, bytes]:
+    """Pixels turned as the EXIF Orientation says they are displayed, and the EXIF with
+    Orientation = 1 (Pillow's ``ImageOps.exif_transpose``, on the array)."""
+    o = _exif_orientation(exif)
+    if o == 1:
+        return arr, exif
+    turned = {
+        2: lambda a: a[:, ::-1],  # mirrored left-right
+        3: lambda a: a[::-1, ::-1],  # turned 180 degrees
+        4: lambda a: a[::-1],  # mirrored top-bottom
+        5: lambda a: a.transpose(1, 0, 2),  # mirrored about the main diagonal
+        6: lambda a: np.rot90(a, -1),  # stored turned 90 degrees anticlockwise
+        7: lambda a: a[::-1, ::-1].transpose(1, 0, 2),  # mirrored about the other diagonal
+        8: lambda a: np.rot90(a, 1),  # stored turned 90 degrees clockwise
+    }[o](arr)
+    return np.ascontiguousarray(turned), _exif_upright(exif)
+
+
 def read_image(
     path: str | os.PathLike[str],
     *,
@@ -964,6 +1042,8 @@ def read_image(
     uint8), JPEG, 8/16-bit and float32 TIFF (first page; float16 becomes
     float32), WebP (first frame) and OpenEXR (first part, data window; half
     becomes float32; channels ``R G B [A]``, ``Y [A]`` or a single channel).
+    An EXIF Orientation is applied: the pixels come as viewers display the file,
+    and the returned EXIF says Orientation 1.
 
     Parameters
     ----------
@@ -1041,7 +1121,10 @@ def read_image(
             f"cannot read '{p}': expected 1 to 4 channels, got image shape {arr.shape}"
         )
 
-    icc, exif = _checked_icc(p, icc, arr.shape[2]), _checked_exif(p, exif)
+    exif = _checked_exif(p, exif)
+    if exif is not None:
+        arr, exif = _upright(arr, exif)
+    icc = _checked_icc(p, icc, arr.shape[2])
     gpano = None
     if xmp:
         try:
@@ -1355,7 +1438,8 @@ def write_image(
         ICC profile to embed (not stored in EXR: a warning says so).
     exif : bytes, optional
         EXIF blob, with or without the ``b"Exif\\x00\\x00"`` header (not stored
-        in EXR; TIFF keeps the IFD0 tags only, see the module documentation).
+        in EXR; TIFF keeps the IFD0 tags only, see the module documentation). An
+        Orientation tag is written as 1: the pixels are written as displayed.
     gpano : GPano, bool or None
         ``True`` (default): GPano XMP for an uncropped equirectangular sphere of
         the image's size; a :class:`GPano` whose cropped size is the image
@@ -1419,6 +1503,8 @@ def write_image(
             stacklevel=2,
         )
         exif_blob = None
+    if exif_blob:  # pixels are written as they are displayed: no turn for a viewer to do
+        exif_blob = _exif_upright(exif_blob)
     h, w = arr.shape[:2]
     g = _gpano_arg(gpano, h, w)
     _check_format(p, fmt, arr)
