@@ -142,11 +142,23 @@ def test_webp_round_trips(tmp_path, channels):
 
 
 @pytest.mark.parametrize(("dtype", "scale"), [("uint8", 255), ("uint16", 65535)])
-def test_integer_pixels_to_exr_become_float_0_to_1(tmp_path, dtype, scale):
-    px = _random(dtype, 3)
+@pytest.mark.parametrize("channels", [1, 2, 3, 4])
+def test_integer_pixels_to_exr_become_linear_float(tmp_path, dtype, scale, channels):
+    """EXR holds linear light: integer colour (sRGB-encoded) is linearised by the sRGB
+    transfer function, alpha only scaled to 0..1; the sRGB encoding of what is read
+    back gives the integers again."""
+    from spherewarp.io.tonemap import linear_to_srgb
+
+    px = _random(dtype, channels)
     img = read_image(write_image(tmp_path / "i.exr", px))
-    assert img.pixels.dtype == np.float32
-    np.testing.assert_allclose(img.pixels, px.astype(np.float64) / scale, rtol=1e-6)
+    assert img.pixels.dtype == np.float32 and img.pixels.shape == px.shape
+    x = px.astype(np.float64) / scale
+    lin = np.where(x <= 0.04045, x / 12.92, ((x + 0.055) / 1.055) ** 2.4)
+    colour = channels - 1 if channels in (2, 4) else channels
+    np.testing.assert_allclose(img.pixels[..., :colour], lin[..., :colour], rtol=1e-5, atol=1e-9)
+    np.testing.assert_allclose(img.pixels[..., colour:], x[..., colour:], rtol=1e-6)
+    back = np.rint(linear_to_srgb(img.pixels[..., :colour]) * scale)
+    np.testing.assert_array_equal(back, px[..., :colour])
 
 
 def test_float64_is_written_as_float32(tmp_path):

@@ -512,7 +512,8 @@ def render_options(func: Callable) -> Callable:
             "that name into DIR. The sample type is kept where the format holds it (8/16-bit "
             "PNG and TIFF, float TIFF and EXR); else it is converted, with a note: HDR (float) "
             "to JPEG/WebP is tone-mapped to 8-bit sRGB and to PNG to 16-bit (--tonemap), "
-            "16-bit to JPEG/WebP becomes 8-bit, and transparency (a cropped panorama's "
+            "16-bit to JPEG/WebP becomes 8-bit, 8/16-bit (sRGB) to EXR becomes linear-light "
+            "float, and transparency (a cropped panorama's "
             "uncovered part) is flattened for JPEG (--background).",
         ),
         click.option("--overwrite", is_flag=True, help="Replace an existing output file."),
@@ -751,6 +752,9 @@ class OutputPlan:
         The alpha channel is flattened onto the background colour.
     reduce : bool
         16-bit pixels become 8-bit.
+    linearize : bool
+        Integer (sRGB-encoded) pixels become linear-light float for EXR (done by
+        :func:`~spherewarp.io.write_image`; the plan only notes it).
     """
 
     format: str
@@ -758,6 +762,7 @@ class OutputPlan:
     tonemap: bool = False
     flatten: bool = False
     reduce: bool = False
+    linearize: bool = False
 
     def note(self, render: RenderOptions) -> str | None:
         """One line saying what is done, or None when nothing is."""
@@ -771,6 +776,10 @@ class OutputPlan:
             )
         if self.reduce:
             parts.append("reduced 16-bit samples to 8-bit")
+        if self.linearize:
+            parts.append(
+                "converted the sRGB-encoded samples to linear-light float (EXR holds linear light)"
+            )
         if self.flatten:
             parts.append(
                 f"flattened transparency onto {render.background or 'black'} "
@@ -784,17 +793,23 @@ def plan_output(path: Path, dtype: Any, channels: int, render: RenderOptions) ->
 
     Float (HDR) to a format without float: tone-mapped to 16 bits where the
     format has them (PNG), else 8; uint16 to JPEG/WebP: 8 bits; 2 or 4 channels
-    to JPEG, or with ``--background``: alpha flattened. Everything else is kept.
+    to JPEG, or with ``--background``: alpha flattened; integer to EXR: written as
+    linear-light float (by :func:`~spherewarp.io.write_image`, noted here). Everything
+    else is kept.
 
     Examples
     --------
     >>> r = RenderOptions(None, False, False, None, "bilinear", 1, 95)
-    >>> plan_output(Path("a.jpg"), "float32", 4, r)
-    OutputPlan(format='JPEG', dtype='uint8', tonemap=True, flatten=True, reduce=False)
+    >>> plan_output(Path("a.jpg"), "float32", 4, r)  # doctest: +NORMALIZE_WHITESPACE
+    OutputPlan(format='JPEG', dtype='uint8', tonemap=True, flatten=True, reduce=False,
+               linearize=False)
     >>> plan_output(Path("a.png"), "float32", 3, r).dtype
     'uint16'
-    >>> plan_output(Path("a.exr"), "float32", 4, r)
-    OutputPlan(format='EXR', dtype='float32', tonemap=False, flatten=False, reduce=False)
+    >>> plan_output(Path("a.exr"), "float32", 4, r)  # doctest: +NORMALIZE_WHITESPACE
+    OutputPlan(format='EXR', dtype='float32', tonemap=False, flatten=False, reduce=False,
+               linearize=False)
+    >>> plan_output(Path("a.exr"), "uint8", 3, r).linearize
+    True
     """
     import numpy as np
 
@@ -812,6 +827,8 @@ def plan_output(path: Path, dtype: Any, channels: int, render: RenderOptions) ->
         return OutputPlan(fmt, np.dtype(target).name, tonemap=True, flatten=flatten)
     if dt == np.uint16 and dt not in holds:
         return OutputPlan(fmt, "uint8", flatten=flatten, reduce=True)
+    if fmt == "EXR" and dt.kind == "u":  # write_image linearises: EXR holds linear light
+        return OutputPlan(fmt, "float32", flatten=flatten, linearize=True)
     return OutputPlan(fmt, dt.name, flatten=flatten)
 
 

@@ -22,9 +22,14 @@ EXR     float32 (half is read     1-4 [2]_  XMP as the string attribute ``xmp``;
 Nothing is converted behind the caller's back: uint16 or float32 pixels given to
 a format that cannot hold them raise :class:`~spherewarp.errors.ImageFormatError`
 naming a format that can; :func:`convert_dtype` converts explicitly. The one
-documented exception is EXR, which only holds floats: uint8 and uint16 pixels
-are written as float32 scaled to 0..1 (``x / 255``, ``x / 65535``), a lossless
-direction.
+documented exception is EXR, which only holds floats, and by convention linear
+light (scene-referred): uint8 and uint16 colour, sRGB-encoded as the other formats
+hold it, is written linearised, ``srgb_to_linear(x / 255)`` (``x / 65535``;
+:func:`~spherewarp.io.tonemap.srgb_to_linear`), and alpha scaled to 0..1. Float
+pixels are taken as linear light everywhere: read from EXR or float TIFF they are
+linear, and :func:`~spherewarp.io.tonemap.tonemap` ends in the sRGB transfer
+function, so 8 or 16 bits written to EXR and read back come back through the
+``clip`` tone map to the same integers.
 
 Pixel arrays are always ``(H, W, C)`` with ``C`` in 1..4 (grey is ``C = 1``,
 grey+alpha ``C = 2``), dtype uint8, uint16 or float32. Alpha is straight
@@ -1316,7 +1321,7 @@ def _write_exr(tmp: Path, arr: np.ndarray, meta: _Meta) -> None:
             "EXR: ICC profile and EXIF are not stored in OpenEXR files; dropped",
             stacklevel=3,
         )
-    arr = convert_dtype(arr, np.float32)
+    arr = _linear_float(arr)
     names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[arr.shape[2]]
     channels = {n: np.ascontiguousarray(arr[:, :, i]) for i, n in enumerate(names)}
     header: dict[str, Any] = {
@@ -1328,6 +1333,21 @@ def _write_exr(tmp: Path, arr: np.ndarray, meta: _Meta) -> None:
     if meta.full_sphere:
         header["envmap"] = OpenEXR.ENVMAP_LATLONG
     OpenEXR.File(header, channels).write(str(tmp))
+
+
+def _linear_float(arr: np.ndarray) -> np.ndarray:
+    """float32 pixels for OpenEXR, which holds linear light: integer colour (taken as
+    sRGB-encoded, as PNG, JPEG, WebP and TIFF hold it) through the sRGB transfer
+    function, alpha scaled to 0..1; float pixels as they are (linear already)."""
+    if arr.dtype.kind == "f":
+        return convert_dtype(arr, np.float32)
+    from .tonemap import srgb_to_linear
+
+    out = convert_dtype(arr, np.float32)
+    c = arr.shape[2]
+    colour = c - 1 if c in (2, 4) else c
+    out[..., :colour] = srgb_to_linear(out[..., :colour])
+    return out
 
 
 _WRITERS: dict[str, Callable[[Path, np.ndarray, _Meta], None]] = {
@@ -1433,7 +1453,9 @@ def write_image(
         Destination file; its directory must exist.
     pixels : numpy.ndarray
         ``(H, W)`` or ``(H, W, C)``, ``C`` in 1..4; uint8, uint16 or float32
-        (float64 is converted to float32 without warning).
+        (float64 is converted to float32 without warning). To EXR, uint8 and
+        uint16 colour is written linearised to float32 (EXR holds linear light;
+        see the module documentation).
     icc_profile : bytes, optional
         ICC profile to embed (not stored in EXR: a warning says so).
     exif : bytes, optional

@@ -8,8 +8,8 @@ fps`` seconds for the k-th. As an output, frame k (from 0) is written to the
 pattern's name for k, each file atomically (:mod:`spherewarp.io.atomic`),
 keeping the sample type (an EXR or 16-bit TIFF/PNG of a 10-bit video holds
 16 bits; the values are the decoded, display-referred ones, as the still
-commands write them). An error or an interrupt removes the frames this run
-wrote.
+commands write them: linearised in an EXR, which holds linear light). An error
+or an interrupt removes the frames this run wrote.
 
 :func:`render_sequence` warps a sequence or a video into a sequence or a
 video, with the same options as :func:`~spherewarp.io.video.render_video`

@@ -54,6 +54,7 @@ __all__ = [
     "flatten_alpha",
     "linear_to_srgb",
     "parse_color",
+    "srgb_to_linear",
     "tonemap",
 ]
 
@@ -86,6 +87,27 @@ def linear_to_srgb(x: np.ndarray) -> np.ndarray:
     high = 1.055 * np.power(np.maximum(x, 0.0031308), 1 / 2.4) - 0.055
     high = np.where(x < 1.0, high, 1.0)  # 1.055 - 0.055 rounds below 1 in float32
     return np.where(x <= 0.0031308, x * 12.92, high).astype(x.dtype, copy=False)
+
+
+def srgb_to_linear(x: np.ndarray) -> np.ndarray:
+    """The inverse of :func:`linear_to_srgb`: sRGB-encoded values in 0..1 to linear light.
+
+    What :func:`~spherewarp.io.write_image` does to integer (sRGB-encoded) colour
+    written to OpenEXR, which holds linear light; ``linear_to_srgb(srgb_to_linear(x))``
+    gives ``x`` back to float rounding, so 8 and 16 bits survive the round trip.
+
+    Examples
+    --------
+    >>> srgb_to_linear(np.array([0.0, 0.04045, 0.5, 1.0])).round(4)
+    array([0.    , 0.0031, 0.214 , 1.    ])
+    >>> x = np.arange(256) / 255
+    >>> bool(np.all(np.rint(linear_to_srgb(srgb_to_linear(x)) * 255) == np.arange(256)))
+    True
+    """
+    x = np.clip(x, 0.0, 1.0)
+    low = x / 12.92
+    high = np.power((np.maximum(x, 0.04045) + 0.055) / 1.055, 2.4)
+    return np.where(x <= 0.04045, low, high).astype(x.dtype, copy=False)
 
 
 _BRIGHTEST = np.float32(1e6)
