@@ -453,7 +453,11 @@ def test_cropped_equirectangular_bounds_are_refused(workdir, bounds, stereo, wha
 
 @pytest.mark.parametrize(
     "out, codec, says",
-    [("u.mkv", "utvideo", "choose another --codec"), ("q.mp4", "qtrle", "write .mov")],
+    [
+        ("u.mkv", "utvideo", "choose another --codec"),
+        ("q.mp4", "qtrle", "write .mov"),
+        ("v.mov", "libvpx-vp9", "write .mp4 or .mkv"),  # the muxer refuses it at its header
+    ],
 )
 def test_a_codec_the_container_cannot_hold_is_refused_in_one_line(clip, out, codec, says):
     """utvideo into .mkv (PyAV writes it into none of the containers) and qtrle into .mp4

@@ -689,6 +689,45 @@ def _check_encoder(
         av.logging.set_level(level)
 
 
+def _starts(mux: str, enc: Any, pix: str, options: dict[str, str], info: Any,
+            size: tuple[int, int]) -> bool:  # fmt: skip
+    """Whether a ``mux`` file in memory with a stream of the encoder ``enc`` (as it will be
+    set up) writes its header: the muxer's own check of the codec."""
+    import io
+
+    import av
+
+    try:
+        with _quiet_stderr(), av.open(io.BytesIO(), "w", format=mux) as trial:
+            rate = info.rate or Fraction(24)
+            add_video_stream(trial, enc.name, rate, options, size, pix, info.time_base)
+            trial.start_encoding()
+    except Exception:  # noqa: BLE001 - av raises several kinds (ValueError, FFmpegError...)
+        return False
+    return True
+
+
+def _check_header(
+    enc: Any, pix: str, options: dict[str, str], info: Any, size: tuple[int, int], output: Path
+) -> None:
+    """Refuse a codec whose stream the output's muxer refuses when it writes its header (VP9
+    or AV1 in a MOV file: the codec table allows them, the muxer does not), before any frame
+    is rendered; the encoder itself opened (:func:`_check_encoder`)."""
+    mux = muxer(output)
+    if _starts(mux, enc, pix, options, info, size):
+        return
+    others = [
+        e for e in (".mp4", ".mkv", ".mov")
+        if muxer(Path("x" + e)) != mux and _starts(muxer(Path("x" + e)), enc, pix, options, info,
+                                                   size)
+    ]  # fmt: skip
+    where = f"write {' or '.join(others)}" if others else "choose another --codec"
+    raise InvalidValueError(
+        f"--codec {enc.name}: {_CONTAINER_NAMES[mux]} file cannot hold {enc.name} video "
+        f"(as FFmpeg writes it); {where}"
+    )
+
+
 class _Stop(Exception):
     """Another stage failed or was stopped."""
 
@@ -1066,6 +1105,7 @@ def prepare(
     color_range = output_range(out_pix, info.pix_fmt, info.color_range)
     if check:
         _check_encoder(enc, out_pix, options, info, size, color_range)
+        _check_header(enc, out_pix, options, info, size, output)
     colors = output_colors(out_pix, info.pix_fmt, info.colors)
     return Settings(
         info, layout, grid, size, enc.name, out_pix, rgb, options, out_shape, force, color_range,
