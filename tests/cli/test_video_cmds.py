@@ -489,6 +489,10 @@ def test_crf_for_an_encoder_without_one_is_refused(clip):
     ok(None, "video", clip.name, "-o", "m.mp4", "--codec", "mpeg4", "--quiet", "rotate", "--yaw",
        "9")  # fmt: skip
     assert len(frames("m.mp4")) == 12
+    err = fails(None, "video", clip.name, "-o", "m2.mp4", "--codec", "mpeg4", "--preset", "slow",
+                "rotate", "--yaw", "9")  # fmt: skip
+    assert err.startswith("spherewarp: error: --preset: mpeg4 has no presets"), err
+    assert not Path("m2.mp4").exists()
 
 
 def test_mpeg2_encodes_a_12_fps_mp4_and_mpeg1_refuses_it_naming_its_rate(workdir):

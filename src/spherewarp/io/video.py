@@ -140,13 +140,19 @@ def encoder_options(enc: Any, crf: float | None, preset: str | None) -> dict[str
     ------
     InvalidValueError
         For a ``crf`` given to an encoder without a constant rate factor (mpeg4, ffv1...),
-        which FFmpeg would silently ignore.
+        or a ``preset`` to one without presets (mpeg4, libvpx-vp9...), which FFmpeg would
+        silently ignore.
     """
     options: dict[str, str] = {}
     if crf is not None and not _has_option(enc, "crf"):
         raise InvalidValueError(
             f"--crf: {enc.name} has no constant rate factor; leave --crf out, or use --codec "
             "libx264, libx265, libvpx-vp9 or libsvtav1"
+        )
+    if preset is not None and not _has_option(enc, "preset"):
+        raise InvalidValueError(
+            f"--preset: {enc.name} has no presets; leave --preset out, or use --codec "
+            "libx264, libx265 or libsvtav1"
         )
     crf = _DEFAULT_CRF.get(enc.name) if crf is None else crf
     if crf is not None:
