@@ -64,6 +64,7 @@ from .atomic import atomic_file, unwritable_error, write_text
 from .remote import is_url
 from .spherical import Spherical, write_spherical
 from .video import (
+    COLORS_UNSPECIFIED,
     FrameMap,
     Settings,
     VideoInfo,
@@ -890,6 +891,10 @@ def render_segmented(
         f"{identity}\n{s.codec} {s.out_pix} {sorted(s.options.items())} {s.size} {s.layout} "
         f"{planar}"
     ) + (f" range {s.color_range}" if s.color_range else "")  # a full-range output's parts
+    if s.colors != COLORS_UNSPECIFIED:  # parts tagged (and converted) with the input's colours
+        full += f" colors {s.colors}"
+    if s.rgb.startswith("rgba"):  # parts warped with their alpha
+        full += f" {s.rgb}"
 
     source = input if is_url(input) else os.path.abspath(input)
 
