@@ -70,6 +70,15 @@ class PullBack:
     valid : ndarray of bool, shape (...), or None
         False where the map is undefined (a hole: background colour or alpha
         0 in the output); None means defined everywhere.
+
+    Examples
+    --------
+    >>> from spherewarp import coords
+    >>> from spherewarp.maps import Mobius
+    >>> zw = coords.cp1_from_lonlat(np.radians([[0.0, 0.0]]))  # a point on the equator
+    >>> pb = Mobius.from_yaw_pitch_roll(30, 0, 0).pull(zw)
+    >>> pb.points.shape, pb.sheet is None, pb.valid is None
+    ((1, 2), True, True)
     """
 
     points: ComplexArray
@@ -98,6 +107,25 @@ class SphereMap(ABC):
 
     Convention: points are unit-norm homogeneous pairs in the default chart
     (0 at the zenith, infinity at the nadir, see :mod:`spherewarp.coords`).
+
+    Examples
+    --------
+    A map of one's own: the identity, pulling every output point back to itself.
+
+    >>> class Same(SphereMap):
+    ...     kind = "same-example"
+    ...     def pull_cp1(self, zw):
+    ...         return zw
+    ...     def params(self):
+    ...         return {}
+    >>> m = Same()
+    >>> m.apply_lonlat([10.0, 20.0]).round(6).tolist(), float(m.local_scale(
+    ...     coords.cp1_from_lonlat(np.radians([10.0, 20.0]))).round(6))
+    ([10.0, 20.0], 1.0)
+    >>> from spherewarp import warp
+    >>> img = np.zeros((16, 32, 3), np.uint8)
+    >>> warp(img, m).shape
+    (16, 32, 3)
     """
 
     kind: ClassVar[str] = ""

@@ -725,7 +725,7 @@ def _sample_one(
     return sample(image, px[..., 0], px[..., 1], interp)
 
 
-def push(image: ArrayLike | Sequence[ArrayLike], forward_map: SphereMap, **kwargs) -> NDArray:
+def push(image: ArrayLike | Sequence[ArrayLike], forward_map: SphereMap, **kwargs: Any) -> NDArray:
     """Push an image forward by an invertible map: content at ``p`` moves to ``forward_map(p)``.
 
     The same as ``warp(image, forward_map.inverse(), **kwargs)``.
