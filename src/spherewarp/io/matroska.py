@@ -32,8 +32,12 @@ import struct
 import zlib
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..errors import ImageFormatError
+
+if TYPE_CHECKING:  # spherical imports this module
+    from .spherical import Spherical
 
 __all__ = ["element", "is_matroska", "read_matroska_spherical", "uint", "write_matroska_spherical"]
 
@@ -217,7 +221,7 @@ def _video_track(data: bytes, tracks: _El) -> tuple[_El, _El] | None:
     return None
 
 
-def read_matroska_spherical(path: str | os.PathLike[str]):  # noqa: ANN201 - Spherical | None
+def read_matroska_spherical(path: str | os.PathLike[str]) -> Spherical | None:
     """The spherical metadata (a :class:`~spherewarp.io.spherical.Spherical`, ``versions``
     ``{"mkv"}``) of the first video track of a Matroska file, or None when it has none."""
     from .spherical import Spherical
@@ -252,7 +256,7 @@ def read_matroska_spherical(path: str | os.PathLike[str]):  # noqa: ANN201 - Sph
     return meta if seen else None
 
 
-def _projection(meta) -> bytes:  # noqa: ANN001 - Spherical
+def _projection(meta: Spherical) -> bytes:
     fixed = (min(2**32 - 1, round(b * 2**32)) for b in meta.bounds)
     private = struct.pack(">I", 0) + struct.pack(">IIII", *fixed)
     body = element(PROJ_TYPE, uint(1)) + element(PROJ_PRIVATE, private)
@@ -269,7 +273,7 @@ def _with_crc(eid: int, kids: bytes, had_crc: bool) -> bytes:
     return element(eid, kids)
 
 
-def write_matroska_spherical(path: str | os.PathLike[str], meta=None) -> None:  # noqa: ANN001
+def write_matroska_spherical(path: str | os.PathLike[str], meta: Spherical | None = None) -> None:
     """Put spherical metadata on the first video track of the Matroska file ``path``, in
     place: StereoMode for a stereo layout, Projection for an equirectangular panorama (a
     :class:`~spherewarp.io.spherical.Spherical` whose ``projection`` is another
