@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import http.client
+import io
 import json
 import os
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -557,3 +559,83 @@ def test_an_unexpected_error_is_a_500_and_one_line(own_server, monkeypatch, capf
     err = capfd.readouterr().err
     assert err.count("\n") == 1 and "KeyError: 'oops'" in err and "Traceback" not in err
     assert _req(srv, "GET", "/image")[0] == 200  # and it goes on serving
+
+
+def _hdr_pano(d: Path) -> Path:
+    from spherewarp.io.images import write_image
+
+    rng = np.random.default_rng(5)
+    px = (rng.random((32, 64, 3)) ** 2 * 4).astype(np.float32)  # linear light, up to 4
+    path = d / "hdr.exr"
+    write_image(path, px, gpano=None)
+    return path
+
+
+def _cli_render(d: Path, recipe: dict, image: Path) -> np.ndarray:
+    (d / "r.json").write_text(json.dumps(recipe))
+    out = d / "cli.png"
+    cmd = [sys.executable, "-m", "spherewarp", "render", str(d / "r.json"), str(image)]
+    p = subprocess.run(
+        [*cmd, "-o", str(out), "-q", "--overwrite"], capture_output=True, text=True, timeout=120
+    )
+    assert p.returncode == 0, p.stderr
+    return _read16(out.read_bytes())
+
+
+def _read16(data: bytes) -> np.ndarray:
+    """A PNG's samples as they are (Pillow reads 16-bit RGB as 8 bits)."""
+    from spherewarp.io.images import read_image
+
+    with tempfile.TemporaryDirectory() as d:
+        (Path(d) / "a.png").write_bytes(data)
+        return np.asarray(read_image(Path(d) / "a.png").pixels).astype(np.float64)
+
+
+def _psnr(a: np.ndarray, b: np.ndarray, peak: float) -> float:
+    mse = float(np.mean((a - b) ** 2))
+    return float("inf") if mse == 0 else 10 * np.log10(peak**2 / mse)
+
+
+@pytest.mark.parametrize("options", [{}, {"tonemap": "reinhard", "exposure": 1.5}])
+def test_hdr_renders_and_shows_as_the_command_writes_it(tmp_path, options):
+    """An HDR (float) input: "render full resolution" writes a PNG (it failed: "PNG
+    cannot store float32 pixels"), tone-mapped to 16 bits with the recipe's tone map
+    and exposure as ``spherewarp render`` does; ``/image`` is the command's render of
+    no steps, tone-mapped the same way (it was clipped), in 8 bits."""
+    image = _hdr_pano(tmp_path)
+    recipe = {"spherewarp": 1, "steps": [{"zoom": {"at": [10, 5], "factor": 2}}]}
+    if options:
+        recipe["options"] = options
+    start = tmp_path / "start.json"
+    start.write_text(json.dumps({"spherewarp": 1, "steps": [], "options": options}))
+    srv = ViewerServer(image, start)
+    try:
+        status, data, _ = _req(srv, "POST", "/api/render", json.dumps(recipe).encode())
+        job = json.loads(data)["job"]
+        for _ in range(1200):  # the first render may compile the renderer
+            if srv.jobs[job].done:
+                break
+            time.sleep(0.1)
+        assert srv.jobs[job].done and srv.jobs[job].error is None
+        status, data, _ = _req(srv, "GET", f"/api/render/{job}/file")
+        assert status == 200
+        served_render = _read16(data)
+        shown = np.asarray(Image.open(io.BytesIO(_req(srv, "GET", "/image")[1])))
+    finally:
+        srv.close()
+    cli = _cli_render(tmp_path, recipe, image)
+    assert served_render.shape == cli.shape and cli.max() > 255  # both 16-bit
+    assert _psnr(served_render, cli, 65535) > 60
+    identity = _cli_render(tmp_path, {"spherewarp": 1, "steps": [], "options": options}, image)
+    assert shown.dtype == np.uint8
+    assert _psnr(shown.astype(np.float64), identity / 257, 255) > 45
+
+
+def test_a_failed_render_does_not_name_the_servers_folder(own_server):
+    class Failing:
+        def render(self, image, t=0.0, progress=None):
+            raise OSError(f"cannot write '{own_server.tmp / 'x.png'}'")
+
+    job = own_server.start_render(Failing())
+    _wait_done(own_server, job)
+    assert own_server.jobs[job].error == "OSError: cannot write 'x.png'"

@@ -94,6 +94,7 @@ __all__ = [
     "RenderQueueFull",
     "ViewerServer",
     "byte_range",
+    "display_pixels",
     "host_names",
     "is_loopback",
     "packed_stages",
@@ -425,12 +426,56 @@ def host_names(host: str) -> list[str]:
     return out
 
 
-def _png_bytes(pixels: np.ndarray) -> bytes:
+def display_pixels(
+    pixels: np.ndarray,
+    dtype: str = "uint8",
+    tonemap: str | None = None,
+    exposure: float | None = None,
+) -> np.ndarray:
+    """``pixels`` as integers of ``dtype`` for a PNG, as ``spherewarp render`` writes them:
+    HDR (float) pixels tone-mapped (:func:`spherewarp.io.tonemap.tonemap`, the recipe's
+    ``options.tonemap`` and ``options.exposure``, default ``aces`` at 0 EV), others
+    converted as they are.
+
+    Parameters
+    ----------
+    pixels : numpy.ndarray
+        ``(H, W)`` or ``(H, W, C)`` pixels, any dtype.
+    dtype : str
+        ``"uint8"`` (the page's picture) or ``"uint16"`` (a render of HDR pixels, as the
+        command writes a PNG of them).
+    tonemap, exposure : str or None, float or None
+        The recipe's tone map and exposure, or None for the defaults.
+
+    Returns
+    -------
+    numpy.ndarray
+        The pixels as ``dtype``.
+
+    Examples
+    --------
+    >>> px = np.full((1, 1, 3), 1.0, np.float32)
+    >>> display_pixels(px, tonemap="clip")[0, 0].tolist(), display_pixels(px)[0, 0].tolist()
+    ([255, 255, 255], [232, 232, 232])
+    """
+    from ..io.images import convert_dtype
+    from ..io.tonemap import DEFAULT_TONEMAP
+    from ..io.tonemap import tonemap as tone
+
+    a = np.asarray(pixels)
+    if a.dtype.kind == "f":
+        flat = a.ndim == 2
+        a = tone(a[:, :, None] if flat else a, tonemap or DEFAULT_TONEMAP, exposure or 0.0)
+        a = a[:, :, 0] if flat else a
+    return convert_dtype(a, dtype)
+
+
+def _png_bytes(
+    pixels: np.ndarray, tonemap: str | None = None, exposure: float | None = None
+) -> bytes:
     from PIL import Image
 
-    from ..io.images import convert_dtype
-
-    a = convert_dtype(pixels, "uint8")
+    a = display_pixels(pixels, "uint8", tonemap, exposure)
     if a.ndim == 3 and a.shape[2] == 1:
         a = a[:, :, 0]
     elif a.ndim == 3 and a.shape[2] == 2:
@@ -542,8 +587,10 @@ class ViewerServer:
 
             rate = probe(self.image_path).rate
             self.rate = float(rate) if rate else None
-        self.image_png = _png_bytes(self.pixels)
         self.recipe = Recipe.load(recipe) if recipe is not None else Recipe.from_dict(_EMPTY)
+        # HDR shown as 'spherewarp render' writes it: the recipe's tone map and exposure
+        first = self.recipe.at(0.0)
+        self.image_png = _png_bytes(self.pixels, first.tonemap, first.exposure)
         #: the folder relative file names in posted recipes are read from
         self.base = self.recipe.base
         #: the only files a posted recipe may name: the starting recipe's, and ``masks``
@@ -661,13 +708,17 @@ class ViewerServer:
                 out = recipe.render(image, t=when, progress=progress)
             except TypeError:  # a renderer without progress reporting
                 out = recipe.render(image, t=when)
-            pixels = getattr(out, "pixels", out)
+            pixels = np.asarray(getattr(out, "pixels", out))
+            if pixels.dtype.kind == "f":  # HDR: tone-mapped to 16 bits, as the command does
+                frame = recipe.at(when)
+                pixels = display_pixels(pixels, "uint16", frame.tonemap, frame.exposure)
             path = self.tmp / f"{self.image_path.stem}-{key[:8]}.png"
             write_image(path, pixels, gpano=None)
             job.path = path
             job.progress = 1.0
         except Exception as exc:  # reported to the page, not raised in a thread
-            job.error = f"{type(exc).__name__}: {exc}"
+            # the server's own folder is nobody's business: the file's name is enough
+            job.error = f"{type(exc).__name__}: {exc}".replace(f"{self.tmp}{os.sep}", "")
         finally:
             job.done = True
 
