@@ -328,6 +328,37 @@ def test_masks_only_the_files_it_was_started_with(tmp_path):
         srv.close()
 
 
+def test_the_pages_recipe_names_its_masks_by_absolute_path(tmp_path):
+    """A --recipe naming its mask relative to its folder: the page gets the mask by its
+    absolute path, so a recipe it saves elsewhere renders there (it failed: "not found"),
+    and the server still takes it (the same file) and nothing else."""
+    d = tmp_path / "rdir"
+    d.mkdir()
+    mask = np.zeros((32, 64, 3), np.uint8)
+    mask[12:20, 28:36] = (255, 0, 0)
+    Image.fromarray(mask).save(d / "mask.png")
+    Image.fromarray(mask).save(tmp_path / "other.png")
+    (d / "r.json").write_text(json.dumps(_mask_recipe("mask.png")))
+    srv = ViewerServer(None, d / "r.json")
+    try:
+        recipe = json.loads(_req(srv, "GET", "/api/state")[1])["recipe"]
+        assert recipe["steps"][0]["schottky"]["mask"] == str((d / "mask.png").resolve())
+        assert _req(srv, "POST", "/api/stages", json.dumps(recipe).encode())[0] == 200
+        other = _mask_recipe(str(tmp_path / "other.png"))
+        assert _req(srv, "POST", "/api/stages", json.dumps(other).encode())[0] == 403
+    finally:
+        srv.close()
+    saved = tmp_path / "downloads"
+    saved.mkdir()
+    (saved / "recipe.json").write_text(json.dumps(recipe))
+    pano = saved / "pano.png"
+    Image.fromarray(np.zeros((32, 64, 3), np.uint8)).save(pano)
+    cmd = [sys.executable, "-m", "spherewarp", "render", "recipe.json", "pano.png", "-q"]
+    p = subprocess.run([*cmd, "-o", "out.png"], cwd=saved, capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    assert (saved / "out.png").is_file()
+
+
 def test_label_cache_is_a_locked_lru():
     import threading
 

@@ -16,7 +16,8 @@ Routes
     1024x512), for the page's overlay.
 ``GET /api/state``
     ``{"recipe", "image": {"width", "height", "name", "video"}, "rate", "stages",
-    "glsl_header", "table"}``: the recipe the server was started with, its map
+    "glsl_header", "table"}``: the recipe the server was started with (the files
+    it names as absolute paths: :func:`absolute_recipe`), its map
     packed as compiled stages (:func:`packed_stages`), the stage table for the
     shader, and a video's frame rate (None for an image).
 ``POST /api/stages``
@@ -93,6 +94,7 @@ __all__ = [
     "LabelCache",
     "RenderQueueFull",
     "ViewerServer",
+    "absolute_recipe",
     "byte_range",
     "display_pixels",
     "host_names",
@@ -269,6 +271,32 @@ def recipe_files(recipe: Any) -> list[Path]:
             if isinstance(specs.get(name), File) and value is not None:
                 out.append(Path(value).resolve())
     return out
+
+
+def absolute_recipe(recipe: Any) -> dict[str, Any]:
+    """The recipe as JSON data with the files its steps name (masks) as absolute paths,
+    so that a copy saved anywhere (the page's "Save recipe") renders as it is.
+
+    Examples
+    --------
+    >>> from spherewarp.recipe import Recipe
+    >>> absolute_recipe(Recipe.from_dict({"spherewarp": 1, "steps": [{"power": {"n": 2}}]}))
+    {'spherewarp': 1, 'steps': [{'power': {'n': 2}}]}
+    """
+    from ..recipe.effects import EFFECTS
+    from ..recipe.params import File
+
+    data = recipe.to_dict()
+    given = data.get("steps", [])
+    for step, item in zip(recipe.steps, given, strict=False):
+        params = item.get(step.effect) if isinstance(item, dict) else None
+        if not isinstance(params, dict):
+            continue
+        specs = EFFECTS[step.effect].params
+        for name, value in step.parsed.items():
+            if isinstance(specs.get(name), File) and value is not None and name in params:
+                params[name] = str(Path(value).resolve())
+    return data
 
 
 def video_frame(path: str | os.PathLike[str], t: float = 0.0) -> np.ndarray:
@@ -649,7 +677,8 @@ class ViewerServer:
 
         h, w = self.pixels.shape[:2]
         return {
-            "recipe": self.recipe.to_dict(),
+            # file names absolute: a recipe the page saves renders wherever it is saved
+            "recipe": absolute_recipe(self.recipe),
             "image": {"width": w, "height": h, "name": self.image_path.name, "video": self.video},
             "rate": self.rate,
             "stages": packed_stages(self.recipe, labels=self.labels),
