@@ -922,3 +922,27 @@ def test_marks_follow_keyframes_and_a_drag_sets_a_keyframe(browser, video, tmp_p
     finally:
         pg.close()
         srv.close()
+
+
+def test_what_the_preview_does_not_show_is_said(page):
+    """A recipe's view (another projection, a size) and options.interp: the preview shows
+    the panorama, bilinear, and says so; "Copy as command" leaves the size to the
+    recipe's view (it added the page's --size, against the recipe's)."""
+    recipe = {
+        "spherewarp": 1,
+        "view": {"projection": "rectilinear", "fov": 90, "size": [256, 256]},
+        "options": {"interp": "nearest"},
+        "steps": [{"rotate": {"yaw": 30}}],
+    }
+    set_recipe(page, recipe)
+    text = page.text_content("#status")
+    assert "the render uses the recipe's view (rectilinear, fov 90°, 256x256)" in text, text
+    assert 'options.interp "nearest"' in text, text
+    page.click("#copy")
+    cmd = page.input_value("#cli")
+    assert "spherewarp render recipe.json" in cmd and "--size" not in cmd, cmd
+    set_recipe(page, {"spherewarp": 1, "steps": [{"rotate": {"yaw": 30}}]})
+    assert "the render uses" not in page.text_content("#status")
+    page.click("#copy")
+    assert f"--size {W}x{H}" in page.input_value("#cli")
+    set_recipe(page, {"spherewarp": 1, "steps": []})

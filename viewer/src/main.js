@@ -637,7 +637,8 @@ async function pump() {
       const { stages, at } = await post(`api/stages${S.video ? `?t=${recipeTime()}` : ""}`, recipe);
       S.at = at || null; // an animated recipe's steps at this time: where its marks go
       await uploadStages(stages);
-      if (stages.codes) status(`${recipe.steps.length} step(s), ${stages.codes.length} stage(s)`);
+      if (stages.codes)
+        status([`${recipe.steps.length} step(s), ${stages.codes.length} stage(s)`, ...previewNotes(recipe)].join("; "));
     } catch (e) {
       status(e.message, true);
     }
@@ -646,6 +647,25 @@ async function pump() {
   inflight = false;
   S.settled = true;
   window.dispatchEvent(new Event("sw-drawn"));
+}
+
+// what the preview does not show of a recipe that 'spherewarp render' honours: its view
+// (another projection, a field of view, a size) and its interpolation
+function previewNotes(recipe) {
+  const notes = [];
+  const v = recipe.view && typeof recipe.view === "object" ? recipe.view : {};
+  const parts = [];
+  if (v.projection) parts.push(`${v.projection}`);
+  if (v.fov != null) parts.push(`fov ${v.fov}°`);
+  if (v.look_at != null) parts.push(`look_at ${JSON.stringify(v.look_at)}`);
+  if (v.roll) parts.push(`roll ${v.roll}°`);
+  if (Array.isArray(v.size)) parts.push(`${v.size[0]}x${v.size[1]}`);
+  if (parts.length)
+    notes.push(`the preview shows the panorama; the render uses the recipe's view (${parts.join(", ")})`);
+  const interp = recipe.options && recipe.options.interp;
+  if (interp && interp !== "bilinear")
+    notes.push(`the preview interpolates bilinearly; the render uses options.interp "${interp}"`);
+  return notes;
 }
 
 function commit(recipe) {
@@ -966,9 +986,12 @@ function download(name, blob) {
 function cliCommand() {
   const json = JSON.stringify(S.recipe, null, 1);
   const [w, h] = S.size;
+  // a recipe with a view renders that view (its projection, size): the page's size is not it
+  const v = S.recipe.view;
+  const size = v && typeof v === "object" && Object.keys(v).length ? "" : ` --size ${w}x${h}`;
   const render = S.video // every frame, the recipe at each frame's time
-    ? `spherewarp video ${S.imageName} -o out.mp4 --size ${w}x${h} recipe recipe.json`
-    : `spherewarp render recipe.json ${S.imageName} -o out.png --size ${w}x${h}`;
+    ? `spherewarp video ${S.imageName} -o out.mp4${size} recipe recipe.json`
+    : `spherewarp render recipe.json ${S.imageName} -o out.png${size}`;
   return `cat > recipe.json <<'EOF'\n${json}\nEOF\n${render}`;
 }
 
