@@ -946,3 +946,29 @@ def test_what_the_preview_does_not_show_is_said(page):
     page.click("#copy")
     assert f"--size {W}x{H}" in page.input_value("#cli")
     set_recipe(page, {"spherewarp": 1, "steps": []})
+
+
+def _slider_key(page, recipe, index, key):
+    set_recipe(page, recipe)
+    page.locator("#params input[type=range]").nth(index).focus()
+    page.keyboard.press(key)
+    page.evaluate("window.spherewarp.settle()")
+    return page.evaluate("window.spherewarp.S.recipe.steps[0]")
+
+
+def test_sliders_reach_only_values_the_recipe_takes(page):
+    """A zoom factor's slider stops above 0 (Home made it -3, which the render refuses);
+    power's n moves by whole numbers, skipping 0 (one ArrowRight made it 3.012, which
+    the shader cannot preview)."""
+    zoom = {"spherewarp": 1, "steps": [{"zoom": {"at": [20, 10], "factor": 3}}]}
+    factor = _slider_key(page, zoom, 2, "Home")["zoom"]["factor"]
+    assert 0 < factor < 0.1, factor
+    Recipe.from_dict({"spherewarp": 1, "steps": [{"zoom": {"at": [20, 10], "factor": factor}}]})
+    assert page.get_attribute("#status", "class") != "bad"
+    assert _slider_key(page, zoom, 2, "End")["zoom"]["factor"] == pytest.approx(9, abs=0.02)
+    power = {"spherewarp": 1, "steps": [{"power": {"n": 3}}]}
+    assert _slider_key(page, power, 0, "ArrowRight")["power"]["n"] == 4
+    assert page.evaluate("window.spherewarp.S.stages.codes") == [2]  # previewed live
+    power = {"spherewarp": 1, "steps": [{"power": {"n": 1}}]}
+    assert _slider_key(page, power, 0, "ArrowLeft")["power"]["n"] == -1  # 0: a constant
+    set_recipe(page, {"spherewarp": 1, "steps": []})

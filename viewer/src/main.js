@@ -922,6 +922,24 @@ function showPins() {
 }
 
 // -- sliders for every numeric parameter -------------------------------------------------------
+// a slider's [min, max, step] about the value v: v +- twice its size, inside the bounds of
+// its parameter's spec (a value the recipe refuses is never reached: a zoom factor > 0,
+// an integer where one is expected), with v on the slider's steps
+function sliderRange(v, spec) {
+  const span = Math.max(1, Math.abs(v)) * 2;
+  const s = spec || {};
+  const step = s.integer ? Math.max(1, Math.round(span / 500)) : span / 500;
+  let below = Math.round(span / step); // steps below v, and above
+  let above = below;
+  const upTo = (d) => Math.max(0, Math.floor(d / step - 1e-6)); // steps k with k * step <= d
+  const under = (d) => Math.max(0, Math.ceil(d / step - 1e-6) - 1); // ... with k * step < d
+  if (s.ge != null) below = Math.min(below, upTo(v - s.ge));
+  if (s.gt != null) below = Math.min(below, under(v - s.gt));
+  if (s.le != null) above = Math.min(above, upTo(s.le - v));
+  if (s.lt != null) above = Math.min(above, under(s.lt - v));
+  return [v - below * step, v + above * step, step];
+}
+
 function buildSliders() {
   const box = $("params");
   box.replaceChildren();
@@ -936,21 +954,24 @@ function buildSliders() {
     del.onclick = () => commit({ ...S.recipe, steps: S.recipe.steps.filter((_, i) => i !== k) });
     lg.append(" ", del);
     fs.append(lg);
-    const add = (label, get, set) => {
+    const add = (label, get, set, spec) => {
       const v = get();
-      const span = Math.max(1, Math.abs(v)) * 2;
+      const [lo, hi, step] = sliderRange(v, spec);
       const row = document.createElement("label");
       const input = document.createElement("input");
       input.type = "range";
-      input.min = v - span;
-      input.max = v + span;
-      input.step = span / 500;
+      input.min = lo;
+      input.max = hi;
+      input.step = step;
       input.value = v;
       const out = document.createElement("span");
       out.textContent = (+v).toPrecision(5);
       let base = null;
+      let last = v;
       input.oninput = () => {
         if (base === null) base = JSON.stringify(S.recipe);
+        if (spec && spec.nonzero && +input.value === 0) input.value = last > 0 ? -step : step;
+        last = +input.value;
         set(+input.value);
         out.textContent = (+input.value).toPrecision(5);
         refresh();
@@ -965,7 +986,11 @@ function buildSliders() {
     };
     const walk = (obj, path) => {
       for (const [key, val] of Object.entries(obj)) {
-        if (typeof val === "number") add(`${path}${key}`, () => obj[key], (x) => (obj[key] = x));
+        if (typeof val === "number") {
+          // a top-level parameter has the bounds of its effect's spec (a point's coordinates none)
+          const spec = path ? null : ((S.params || {})[name] || {})[key];
+          add(`${path}${key}`, () => obj[key], (x) => (obj[key] = x), spec);
+        }
         else if (Array.isArray(val) || (val && typeof val === "object" && !val.keyframes))
           walk(val, `${path}${key}.`);
       }
@@ -1087,6 +1112,7 @@ async function start() {
   S.imageName = state.image.name;
   S.rate = state.rate;
   S.stageNames = Object.fromEntries(state.table.stages.map((t) => [t.code, t.name]));
+  S.params = state.params; // the bounds of the effects' number parameters, for the sliders
   S.recipe = state.recipe;
   const ar = state.image.width / state.image.height;
   S.size = [Math.min(state.image.width, 2048), Math.round(Math.min(state.image.width, 2048) / ar)];

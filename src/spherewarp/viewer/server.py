@@ -16,10 +16,11 @@ Routes
     1024x512), for the page's overlay.
 ``GET /api/state``
     ``{"recipe", "image": {"width", "height", "name", "video"}, "rate", "stages",
-    "glsl_header", "table"}``: the recipe the server was started with (the files
+    "glsl_header", "table", "params"}``: the recipe the server was started with (the files
     it names as absolute paths: :func:`absolute_recipe`), its map
     packed as compiled stages (:func:`packed_stages`), the stage table for the
-    shader, and a video's frame rate (None for an image).
+    shader, a video's frame rate (None for an image), and the bounds of the
+    effects' number parameters for the page's sliders (:func:`slider_specs`).
 ``POST /api/stages``
     A recipe in, its packed stages at ``?t=SECONDS`` (default 0) out (400 with
     the recipe's error line):
@@ -100,6 +101,7 @@ __all__ = [
     "host_names",
     "is_loopback",
     "packed_stages",
+    "slider_specs",
     "steps_at",
     "url_host",
     "video_frame",
@@ -297,6 +299,43 @@ def absolute_recipe(recipe: Any) -> dict[str, Any]:
             if isinstance(specs.get(name), File) and value is not None and name in params:
                 params[name] = str(Path(value).resolve())
     return data
+
+
+#: parameters the page's sliders keep to integers other than zero: the shader compiles a
+#: power of integer n only (another n renders on the CPU, with no live preview), and n = 0
+#: is a constant map
+_PREVIEW_INTEGERS = {("power", "n")}
+
+
+def slider_specs() -> dict[str, dict[str, dict[str, Any]]]:
+    """The bounds of every effect's number parameters, for the page's sliders: by effect
+    and name, ``{"gt", "ge", "lt", "le", "integer", "nonzero"}`` (a bound None where
+    there is none), so that no slider reaches a value the recipe refuses.
+
+    Examples
+    --------
+    >>> specs = slider_specs()
+    >>> specs["zoom"]["factor"]["ge"], specs["power"]["n"]["integer"], specs["exp"]["lam"]["gt"]
+    (1e-09, True, 0)
+    """
+    from ..recipe.effects import EFFECTS
+    from ..recipe.params import Integer, Real
+
+    out: dict[str, dict[str, dict[str, Any]]] = {}
+    for name, effect in EFFECTS.items():
+        for key, spec in effect.params.items():
+            if not isinstance(spec, (Real, Integer)):
+                continue
+            special = (name, key) in _PREVIEW_INTEGERS
+            out.setdefault(name, {})[key] = {
+                "gt": getattr(spec, "gt", None),
+                "ge": spec.ge,
+                "lt": getattr(spec, "lt", None),
+                "le": spec.le,
+                "integer": isinstance(spec, Integer) or special,
+                "nonzero": special,
+            }
+    return out
 
 
 def video_frame(path: str | os.PathLike[str], t: float = 0.0) -> np.ndarray:
@@ -684,6 +723,7 @@ class ViewerServer:
             "stages": packed_stages(self.recipe, labels=self.labels),
             "glsl_header": glsl_header(),
             "table": json.loads(stages.as_json(extra=(EXPRESSION,))),
+            "params": slider_specs(),
         }
 
     def start_render(self, recipe: Any, t: float | None = None) -> str:
