@@ -972,3 +972,31 @@ def test_sliders_reach_only_values_the_recipe_takes(page):
     power = {"spherewarp": 1, "steps": [{"power": {"n": 1}}]}
     assert _slider_key(page, power, 0, "ArrowLeft")["power"]["n"] == -1  # 0: a constant
     set_recipe(page, {"spherewarp": 1, "steps": []})
+
+
+def test_a_server_gone_during_a_render_is_said(browser, tmp_path):
+    """The server stops while a render runs: the page says the render has no answer (it
+    said "rendering 0%" forever, the failed poll an uncaught promise rejection)."""
+    import threading
+
+    srv = ViewerServer(None, None)
+    gate = threading.Event()
+    srv._render = lambda key, job, *rest: (setattr(job, "started", True), gate.wait(30))
+    pg = browser.new_page(viewport={"width": 1000, "height": 600})
+    errors = []
+    pg.on("pageerror", lambda e: errors.append(str(e)))
+    try:
+        load(pg, srv.url + f"?view=flat&size={W}x{H}")
+        pg.click("#render")
+        pg.wait_for_function("document.getElementById('status').textContent.includes('rendering')")
+        # the server gone: its kept-alive connections would still answer in this process
+        pg.route("**/api/render/*", lambda route: route.abort("connectionrefused"))
+        pg.wait_for_function(
+            "document.getElementById('status').textContent.includes('no answer')", timeout=10000
+        )
+        assert pg.get_attribute("#status", "class") == "bad"
+        assert errors == []
+    finally:
+        gate.set()
+        pg.close()
+        srv.close()

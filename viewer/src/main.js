@@ -1052,7 +1052,15 @@ function wireButtons() {
       const at = S.video ? `?t=${recipeTime()}` : "";
       const { job } = await post(`api/render${at}`, S.recipe);
       const poll = async () => {
-        const st = await (await fetch(`api/render/${job}`)).json();
+        let st;
+        try {
+          const r = await fetch(`api/render/${job}`);
+          st = await r.json();
+          if (!r.ok) throw new Error(st.error || `HTTP ${r.status}`);
+        } catch (e) {
+          // the server stopped (or forgot the render): say so, not "rendering" forever
+          return status(`render: no answer from the server about the render (${e.message})`, true);
+        }
         if (st.error) return status(`render: ${st.error}`, true);
         if (!st.done) {
           status(st.started ? `rendering ${(100 * st.progress).toFixed(0)}%`
