@@ -1000,3 +1000,46 @@ def test_a_server_gone_during_a_render_is_said(browser, tmp_path):
         gate.set()
         pg.close()
         srv.close()
+
+
+def test_render_button_is_off_while_its_render_runs_and_a_refusal_stays(browser):
+    """The Render button is off while its render runs (eight clicks made eight renders);
+    a render the server refuses (429, a full queue: here from another tab) is said and
+    stays said (progress of other renders overwrote it)."""
+    import threading
+
+    srv = ViewerServer(None, None)
+    gate = threading.Event()
+
+    def held(key, job, *rest):
+        job.started = True
+        gate.wait(30)
+        job.error = "stopped by the test"
+        job.done = True
+
+    srv._render = held
+    pages = [browser.new_page(viewport={"width": 1000, "height": 600}) for _ in range(2)]
+    try:
+        for pg in pages:
+            load(pg, srv.url + f"?view=flat&size={W}x{H}")
+        first, second = pages
+        first.click("#render")
+        first.wait_for_function("document.getElementById('status').textContent.includes('render')")
+        assert first.is_disabled("#render")
+        for _ in range(4):  # the queue full
+            srv.start_render(None)
+        second.click("#render")
+        second.wait_for_function("document.getElementById('status').className === 'bad'")
+        second.wait_for_timeout(1000)
+        assert "renders are waiting already" in second.text_content("#status")
+        assert second.is_enabled("#render")
+        assert first.is_disabled("#render")
+        gate.set()
+        first.wait_for_function("document.getElementById('status').className === 'bad'")
+        assert "stopped by the test" in first.text_content("#status")
+        assert first.is_enabled("#render")
+    finally:
+        gate.set()
+        for pg in pages:
+            pg.close()
+        srv.close()

@@ -1047,6 +1047,15 @@ function wireButtons() {
     }
   };
   $("render").onclick = async () => {
+    // one render at a time from the page: the button is off until it is done or failed,
+    // and what ends it (a refusal such as 429 included) stays in the status
+    const button = $("render");
+    if (button.disabled) return;
+    button.disabled = true;
+    const end = (text, bad = false) => {
+      button.disabled = false;
+      status(text, bad);
+    };
     try {
       // a video: the frame shown now
       const at = S.video ? `?t=${recipeTime()}` : "";
@@ -1059,15 +1068,15 @@ function wireButtons() {
           if (!r.ok) throw new Error(st.error || `HTTP ${r.status}`);
         } catch (e) {
           // the server stopped (or forgot the render): say so, not "rendering" forever
-          return status(`render: no answer from the server about the render (${e.message})`, true);
+          return end(`render: no answer from the server about the render (${e.message})`, true);
         }
-        if (st.error) return status(`render: ${st.error}`, true);
+        if (st.error) return end(`render: ${st.error}`, true);
         if (!st.done) {
           status(st.started ? `rendering ${(100 * st.progress).toFixed(0)}%`
                             : "waiting for an earlier render");
           return setTimeout(poll, 300);
         }
-        status("rendered: downloading");
+        end("rendered: downloading");
         const a = document.createElement("a");
         a.href = `api/render/${job}/file`;
         a.download = "";
@@ -1075,7 +1084,7 @@ function wireButtons() {
       };
       poll();
     } catch (e) {
-      status(e.message, true);
+      end(`render: ${e.message}`, true);
     }
   };
   for (const v of ["flat", "sphere", "planet"])
