@@ -1043,3 +1043,16 @@ def test_render_button_is_off_while_its_render_runs_and_a_refusal_stays(browser)
         for pg in pages:
             pg.close()
         srv.close()
+
+
+def test_loading_the_same_recipe_file_again_loads_it(page, tmp_path):
+    """Load recipe twice with the same file: the second load is a load too (the file
+    input kept the name, so no change came and nothing happened)."""
+    path = tmp_path / "r.json"
+    path.write_text(json.dumps({"spherewarp": 1, "steps": [{"rotate": {"yaw": 30}}]}))
+    set_recipe(page, {"spherewarp": 1, "steps": []})
+    for _ in range(2):
+        page.set_input_files("#load", str(path))
+        page.wait_for_function("window.spherewarp.S.recipe.steps.length === 1")
+        page.evaluate("window.spherewarp.settle()")
+        set_recipe(page, {"spherewarp": 1, "steps": []})

@@ -1028,6 +1028,7 @@ function wireButtons() {
   $("load").onchange = async (ev) => {
     const file = ev.target.files[0];
     if (!file) return;
+    ev.target.value = ""; // the same file again is a change too (edited since, or undone)
     try {
       const recipe = JSON.parse(await file.text());
       await post("api/stages", recipe); // validated by the server first
