@@ -1056,3 +1056,19 @@ def test_loading_the_same_recipe_file_again_loads_it(page, tmp_path):
         page.wait_for_function("window.spherewarp.S.recipe.steps.length === 1")
         page.evaluate("window.spherewarp.settle()")
         set_recipe(page, {"spherewarp": 1, "steps": []})
+
+
+def test_undo_keys_in_a_text_box_are_the_boxs_own(page):
+    """Ctrl+Z while typing in the size box undoes the typing, not the recipe (it took the
+    recipe's last step away); outside a text box it is still the recipe's undo."""
+    set_recipe(page, {"spherewarp": 1, "steps": []})
+    set_recipe(page, {"spherewarp": 1, "steps": [{"rotate": {"yaw": 30}}]})
+    page.focus("#size")
+    page.keyboard.press("Control+z")
+    page.evaluate("window.spherewarp.settle()")
+    assert len(page.evaluate("window.spherewarp.S.recipe.steps")) == 1
+    page.locator("#size").blur()
+    page.focus("#render")
+    page.keyboard.press("Control+z")
+    page.evaluate("window.spherewarp.settle()")
+    assert page.evaluate("window.spherewarp.S.recipe.steps") == []

@@ -911,6 +911,11 @@ window.addEventListener("keydown", (ev) => {
     return status("cancelled");
   }
   if (!(ev.ctrlKey || ev.metaKey)) return;
+  // in a text box (the size, the command), Ctrl+Z is the box's own undo, not the recipe's
+  const t = ev.target;
+  if (t instanceof HTMLElement && (t.isContentEditable || t.tagName === "TEXTAREA" ||
+      (t.tagName === "INPUT" && !["range", "checkbox", "button", "file"].includes(t.type))))
+    return;
   if (ev.key === "z" && !ev.shiftKey) undo();
   else if (ev.key === "y" || (ev.key === "z" && ev.shiftKey)) redo();
   else return;
