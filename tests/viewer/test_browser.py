@@ -1072,3 +1072,23 @@ def test_undo_keys_in_a_text_box_are_the_boxs_own(page):
     page.keyboard.press("Control+z")
     page.evaluate("window.spherewarp.settle()")
     assert page.evaluate("window.spherewarp.S.recipe.steps") == []
+
+
+def test_load_recipe_by_keyboard_and_a_status_read_out(page):
+    """Load recipe is a button Tab reaches (its file input was display:none), and it
+    opens the file chooser; the status footer is a live region, an error an alert."""
+    page.focus("#save")
+    page.keyboard.press("Shift+Tab")
+    assert page.evaluate("document.activeElement.id") == "load-button"
+    # Enter on it clicks the file input (the chooser itself is the browser's)
+    page.evaluate("""() => { window.__chose = 0; document.getElementById('load').addEventListener(
+        'click', (ev) => { window.__chose++; ev.preventDefault(); }, { once: true }); }""")
+    page.keyboard.press("Enter")
+    page.wait_for_function("window.__chose === 1")
+    set_recipe(page, {"spherewarp": 1, "steps": [{"rotate": {"yaw": 30}}]})
+    assert page.get_attribute("#status", "role") == "status"
+    assert page.get_attribute("#status", "aria-live") == "polite"
+    set_recipe(page, {"spherewarp": 1, "steps": [{"zoom": {"at": [0, 0], "factor": -1}}]})
+    assert page.get_attribute("#status", "role") == "alert"
+    set_recipe(page, {"spherewarp": 1, "steps": []})
+    assert page.get_attribute("#status", "role") == "status"

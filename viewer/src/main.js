@@ -6,9 +6,12 @@ const DEG = Math.PI / 180;
 const $ = (id) => document.getElementById(id);
 const canvas = $("view");
 const marks = $("marks"); // the 2D layer over the canvas: pins, clicked corners, disks
+// the footer: read out politely (role status); an error at once (role alert)
 const status = (text, bad = false) => {
   $("status").textContent = text;
   $("status").className = bad ? "bad" : "";
+  $("status").setAttribute("role", bad ? "alert" : "status");
+  $("status").setAttribute("aria-live", bad ? "assertive" : "polite");
 };
 
 const S = {
@@ -1030,6 +1033,7 @@ function wireButtons() {
   $("redo").onclick = redo;
   $("save").onclick = () =>
     download("recipe.json", new Blob([JSON.stringify(S.recipe, null, 2) + "\n"], { type: "application/json" }));
+  $("load-button").onclick = () => $("load").click(); // a button: reachable by Tab
   $("load").onchange = async (ev) => {
     const file = ev.target.files[0];
     if (!file) return;
