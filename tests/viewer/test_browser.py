@@ -1092,3 +1092,40 @@ def test_load_recipe_by_keyboard_and_a_status_read_out(page):
     assert page.get_attribute("#status", "role") == "alert"
     set_recipe(page, {"spherewarp": 1, "steps": []})
     assert page.get_attribute("#status", "role") == "status"
+
+
+def _type_size(page, text):
+    page.fill("#size", text)
+    page.press("#size", "Enter")
+    page.evaluate("window.spherewarp.settle()")
+    return page.evaluate("window.spherewarp.S.size"), page.text_content("#status")
+
+
+def test_size_box_refuses_what_cannot_be_drawn(page):
+    """0x0 (the canvas went away), 20000x10000 (the page hung), a width past what the
+    GPU draws (cut off), "abc" (silently ignored): refused with the reason, the size
+    kept; a good size is taken."""
+    gpu = page.evaluate(
+        "document.getElementById('view').getContext('webgl2')"
+        ".getParameter(WebGL2RenderingContext.MAX_VIEWPORT_DIMS)[0]"
+    )
+    for bad, why in [
+        ("0x0", "expected a width of 1 to"),
+        ("20000x10000", "expected a width of 1 to"),
+        (f"{min(8192, gpu) + 1}x64", "expected a width of 1 to"),
+        ("abc", 'expected WIDTHxHEIGHT, such as 1024x512, got "abc"'),
+    ]:
+        size, text = _type_size(page, bad)
+        assert size == [W, H], bad
+        assert why in text and page.get_attribute("#status", "class") == "bad", (bad, text)
+        assert page.get_attribute("#size", "aria-invalid") == "true"
+        assert page.evaluate("document.getElementById('view').width") == W
+    page.select_option("#side", "original")  # two panels: each at most half as wide
+    half = min(8192, gpu // 2)
+    size, text = _type_size(page, f"{half + 1}x64")
+    assert size == [W, H] and "2 panels side by side" in text, text
+    page.select_option("#side", "")
+    assert _type_size(page, "200x100")[0] == [200, 100]
+    assert page.get_attribute("#size", "aria-invalid") is None
+    assert "size=200x100" in page.url
+    assert _type_size(page, f"{W}x{H}")[0] == [W, H]

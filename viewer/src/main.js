@@ -701,12 +701,56 @@ function writeURL() {
   history.replaceState(null, "", `?${q}`);
 }
 
+// the size of one panel: at most 8192 a side (as the URL's size), and what the GPU draws
+// whole (its viewport and drawing buffer, shared by the panels side by side)
+const MAX_SIZE = 8192;
+function sizeLimit(n = panels().length) {
+  const dims = gl.getParameter(gl.MAX_VIEWPORT_DIMS);
+  const buffer = gl.getParameter(gl.MAX_RENDERBUFFER_SIZE);
+  return [
+    Math.min(MAX_SIZE, Math.floor(Math.min(dims[0], buffer) / n)),
+    Math.min(MAX_SIZE, dims[1], buffer),
+  ];
+}
+
+// "WxH" as [w, h], or throws an Error saying what is wrong with it
+function parseSize(text, n = panels().length) {
+  const m = /^\s*(\d+)\s*[x×]\s*(\d+)\s*$/i.exec(text || "");
+  if (!m) throw new Error(`size: expected WIDTHxHEIGHT, such as 1024x512, got "${text}"`);
+  const [w, h] = [+m[1], +m[2]];
+  const [mw, mh] = sizeLimit(n);
+  if (w < 1 || h < 1 || w > mw || h > mh)
+    throw new Error(`size: expected a width of 1 to ${mw} and a height of 1 to ${mh} ` +
+      `(what this GPU draws${n > 1 ? `, ${n} panels side by side` : ""}), got ${w}x${h}`);
+  return [w, h];
+}
+
+// the size box: a size that cannot be drawn is refused with the reason, the size kept
+function setSize(text) {
+  try {
+    S.size = parseSize(text);
+  } catch (e) {
+    $("size").setAttribute("aria-invalid", "true");
+    return status(e.message, true);
+  }
+  $("size").removeAttribute("aria-invalid");
+  $("size").value = `${S.size[0]}x${S.size[1]}`;
+  status(`size ${S.size[0]}x${S.size[1]}`);
+  writeURL();
+  draw();
+}
+
 function readURL() {
   const q = new URLSearchParams(location.search);
   if (["flat", "sphere", "planet"].includes(q.get("view"))) S.view = q.get("view");
-  const m = /^(\d+)x(\d+)$/.exec(q.get("size") || "");
-  if (m) S.size = [Math.min(+m[1], 8192), Math.min(+m[2], 8192)];
   if (["flat", "sphere", "planet", "original"].includes(q.get("side"))) S.side = q.get("side");
+  if (q.get("size")) {
+    try {
+      S.size = parseSize(q.get("size"));
+    } catch (e) {
+      status(`the URL's ${e.message}`, true);
+    }
+  }
   if (q.get("marks") === "0") S.marks = false;
   const ss = +q.get("ss");
   if (ss >= 1 && ss <= 4) S.ss = Math.round(ss);
@@ -1105,6 +1149,13 @@ function wireButtons() {
     };
   $("side").onchange = () => {
     S.side = $("side").value || null;
+    const [mw] = sizeLimit();
+    if (S.size[0] > mw) {
+      // side by side wider than the GPU draws: each panel narrower, the shape kept
+      S.size = [mw, Math.max(1, Math.round((S.size[1] * mw) / S.size[0]))];
+      $("size").value = `${S.size[0]}x${S.size[1]}`;
+      status(`size ${S.size[0]}x${S.size[1]}: the panels side by side are as wide as this GPU draws`);
+    }
     writeURL();
     draw();
   };
@@ -1127,10 +1178,7 @@ function wireButtons() {
     S.overlay = +$("overlay").value;
     draw();
   };
-  $("size").onchange = () => {
-    const m = /^(\d+)x(\d+)$/.exec($("size").value);
-    if (m) (S.size = [+m[1], +m[2]]), writeURL(), draw();
-  };
+  $("size").onchange = () => setSize($("size").value);
 }
 
 // -- start -------------------------------------------------------------------------------------
