@@ -252,6 +252,25 @@ def test_cli_view_prints_url_and_warns(tmp_path):
     assert "host names 0.0.0.0, 127.0.0.1, localhost" in err and "Traceback" not in err
 
 
+def test_cli_view_on_another_loopback_address_does_not_warn(tmp_path):
+    """127.0.0.2 is loopback (127.0.0.0/8): no "not loopback" warning (it had one), and
+    the server answers to its own name only."""
+    cmd = [sys.executable, "-m", "spherewarp", "view", "--no-browser", "--host", "127.0.0.2"]
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        line = p.stdout.readline()
+        assert line.startswith("spherewarp view: http://127.0.0.2:"), line
+    finally:
+        p.terminate()
+        _, err = p.communicate(timeout=10)
+    assert "warning" not in err, err
+    srv = ViewerServer(None, None, host="127.0.0.2")
+    try:
+        assert srv.host_names == ["127.0.0.2"]
+    finally:
+        srv.close()
+
+
 def test_cli_view_bad_recipe_is_one_line(tmp_path):
     bad = tmp_path / "bad.json"
     bad.write_text('{"spherewarp": 1, "steps": [{"zooom": {}}]}')

@@ -67,6 +67,7 @@ Examples
 from __future__ import annotations
 
 import io
+import ipaddress
 import json
 import mimetypes
 import os
@@ -455,8 +456,25 @@ def _own_addresses(ipv6: bool) -> list[str]:
 
 def is_loopback(host: str) -> bool:
     """Whether ``host`` (an IPv6 address with or without brackets) is this machine's loopback,
-    which other machines cannot reach."""
-    return host.strip("[]").lower() in _LOOPBACK
+    which other machines cannot reach: ``localhost``, any of 127.0.0.0/8, ``::1`` (also as
+    an IPv4-mapped address).
+
+    Examples
+    --------
+    >>> is_loopback("127.0.0.2"), is_loopback("[::1]"), is_loopback("localhost")
+    (True, True, True)
+    >>> is_loopback("::ffff:127.0.0.1"), is_loopback("0.0.0.0"), is_loopback("192.168.1.2")
+    (True, False, False)
+    """
+    name = host.strip("[]").lower()
+    if name in _LOOPBACK:
+        return True
+    try:
+        address = ipaddress.ip_address(name)
+    except ValueError:  # a name other than localhost
+        return False
+    mapped = getattr(address, "ipv4_mapped", None)
+    return address.is_loopback or (mapped is not None and mapped.is_loopback)
 
 
 def host_names(host: str) -> list[str]:
@@ -479,7 +497,7 @@ def host_names(host: str) -> list[str]:
     """
     host = host.strip("[]").lower()
     names = [host]
-    if is_loopback(host) or host in _WILDCARD:
+    if host in _LOOPBACK or host in _WILDCARD:  # (not 127.0.0.2: only its own name reaches it)
         names += ["127.0.0.1", "localhost"]
     if host == "::":  # both stacks: IPv6 loopback too
         names.append("::1")
