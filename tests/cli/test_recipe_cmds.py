@@ -543,6 +543,9 @@ def test_every_command_replays_bit_for_bit(tmp_path, args):
         ("schottky", "--generator", "0,0,20 -> 180,0,20"),
         ("lattes", "--alpha", "2"),
         ("peirce",),
+        ("power", "--n", "2", "--look-at", "0,90"),
+        ("exp", "--lam", "3"),
+        ("map", "--expr", "z**3"),
     ],
     ids=lambda a: a[0],
 )
@@ -561,6 +564,27 @@ def test_print_is_the_recipe_and_print_map_the_map(tmp_path, pano, args):
         m = map_from_json(ok(None, args[0], a, *args[1:], "--print-map"))
         assert m.kind == recipe.map_at(0).kind or args[0] in ("rotate", "zoom")
     assert not list(tmp_path.glob("*-*.png"))  # nothing rendered
+
+
+def test_splitscreen_prints_its_recipe_and_has_no_map(tmp_path, pano):
+    """--print: the split screen's recipe, both inputs named, which 'render' replays;
+    --print-map is refused in one line (each sheet shows another input, no one map)."""
+    from spherewarp.recipe import Recipe
+
+    a, b = pano
+    text = ok(None, "splitscreen", a, b, "--seam", "30", "--print")
+    recipe = Recipe.loads(text)
+    assert [s.effect for s in recipe.steps] == ["splitscreen"] and recipe.n_inputs == 2
+    assert json.loads(text)["inputs"] == ["a.png", "b.png"]
+    assert "use --print" in fails(None, "splitscreen", a, b, "--print-map")
+    assert not list(tmp_path.glob("*-*.png"))  # nothing rendered
+    r = tmp_path / "r.json"
+    r.write_text(text)
+    opts = ["--size", "64x32", "-q"]
+    ok(None, "splitscreen", a, b, "--seam", "30", *opts, "-o", tmp_path / "cmd.png")
+    ok(None, "render", r, a, b, *opts, "-o", tmp_path / "rec.png")
+    cmd, rec = (read_image(tmp_path / n).pixels for n in ("cmd.png", "rec.png"))
+    assert np.array_equal(cmd, rec)
 
 
 def test_a_schottky_loop_recipe_loops(tmp_path, pano):

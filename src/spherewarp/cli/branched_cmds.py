@@ -19,7 +19,8 @@ from typing import Any
 import click
 
 from ._common import POINT, RealType, RenderOptions, example, input_argument, render_options
-from .recipe_cmds import recipe_options, render_recipe, saving_recipe
+from .recipe_cmds import print_options, recipe_options, render_recipe, saving_recipe
+from .recipe_cmds import print_recipe as show_recipe
 
 __all__ = ["power", "exp", "map_cmd", "splitscreen"]
 
@@ -122,6 +123,17 @@ def _render(input: Path, render: RenderOptions, pull_map: Any, command: str) -> 
     save_output(out, src, render, command=command)
 
 
+def _printed(
+    step: dict[str, Any], pull: Any, render: RenderOptions, input: Any, recipe: bool, map: bool
+) -> bool:
+    """``--print`` (the recipe) or ``--print-map`` (the map pulled back by): True if printed."""
+    if map:
+        click.echo(pull.to_json())
+    elif recipe:
+        show_recipe(step, render, input)
+    return map or recipe
+
+
 def _points(value: Any) -> Any:
     """A point (or a tuple of points) as recipe JSON lists; None stays None."""
     if not value:
@@ -168,6 +180,7 @@ def _points(value: Any) -> Any:
     "(in the frame of the branch points); 0 is NumPy's principal branch.",
 )
 @click.option("--look-at", type=POINT, default=None, help=_LOOK_AT_HELP)
+@print_options
 @recipe_options
 @render_options
 def power(
@@ -178,6 +191,8 @@ def power(
     branch: int,
     cut: float,
     look_at: tuple[float, float] | None,
+    print_recipe: bool = False,
+    print_map: bool = False,
     save_recipe: Path | None = None,
     dry_run: bool = False,
 ) -> None:
@@ -196,6 +211,8 @@ def power(
         "look_at": _points(look_at),
     }
     pull = EFFECTS["power"].build({**step, "branch_points": branch_points or None})
+    if _printed({"power": step}, pull, render, input, print_recipe, print_map):
+        return
     with saving_recipe({"power": step}, render, input, save_recipe, dry_run) as dry:
         if not dry:
             _render(input, render, pull, "power")
@@ -219,6 +236,7 @@ def power(
     "--branch-points", type=POINT, nargs=2, metavar="P Q", default=None, help=_BRANCH_POINTS_HELP
 )
 @click.option("--look-at", type=POINT, default=None, help=_LOOK_AT_HELP)
+@print_options
 @recipe_options
 @render_options
 def exp(
@@ -227,6 +245,8 @@ def exp(
     lam: float,
     branch_points: tuple[tuple[float, float], tuple[float, float]] | None,
     look_at: tuple[float, float] | None,
+    print_recipe: bool = False,
+    print_map: bool = False,
     save_recipe: Path | None = None,
     dry_run: bool = False,
 ) -> None:
@@ -241,6 +261,8 @@ def exp(
     render = _supersample(render, EXP_SUPERSAMPLE)
     step = {"lam": lam, "branch_points": _points(branch_points), "look_at": _points(look_at)}
     pull = EFFECTS["exp"].build({**step, "branch_points": branch_points or None})
+    if _printed({"exp": step}, pull, render, input, print_recipe, print_map):
+        return
     with saving_recipe({"exp": step}, render, input, save_recipe, dry_run) as dry:
         if not dry:
             _render(input, render, pull, "exp")
@@ -270,6 +292,7 @@ def exp(
     "front (0 at the front, inf at the back, 1 on the right, i up).",
 )
 @click.option("--look-at", type=POINT, default=None, help=_LOOK_AT_HELP)
+@print_options
 @recipe_options
 @render_options
 def map_cmd(
@@ -278,6 +301,8 @@ def map_cmd(
     expr: str,
     chart: str,
     look_at: tuple[float, float] | None,
+    print_recipe: bool = False,
+    print_map: bool = False,
     save_recipe: Path | None = None,
     dry_run: bool = False,
 ) -> None:
@@ -286,6 +311,8 @@ def map_cmd(
 
     step = {"expr": expr, "chart": chart.lower(), "look_at": _points(look_at)}
     pull = EFFECTS["map"].build({**step, "look_at": look_at})
+    if _printed({"map": step}, pull, render, input, print_recipe, print_map):
+        return
     with saving_recipe({"map": step}, render, input, save_recipe, dry_run) as dry:
         if not dry:
             _render(input, render, pull, "map")
@@ -341,6 +368,7 @@ def map_cmd(
     help="Width in degrees of input longitude of the cross-fade across each seam (0: hard cut).",
 )
 @click.option("--look-at", type=POINT, default=None, help=_LOOK_AT_HELP)
+@print_options
 @recipe_options
 @render_options
 def splitscreen(
@@ -353,6 +381,8 @@ def splitscreen(
     seam: str | float,
     feather: float,
     look_at: tuple[float, float] | None,
+    print_recipe: bool = False,
+    print_map: bool = False,
     save_recipe: Path | None = None,
     dry_run: bool = False,
 ) -> None:
@@ -394,6 +424,13 @@ def splitscreen(
         "feather": feather,
         "look_at": _points(look_at),
     }
+    if print_map:  # each sheet shows another input: no one map to pull back by
+        raise click.UsageError(
+            "splitscreen blends its inputs on the sheets of a cover, not one map: use --print"
+        )
+    if print_recipe:
+        show_recipe({"splitscreen": step}, render, list(inputs))
+        return
     with saving_recipe({"splitscreen": step}, render, list(inputs), save_recipe, dry_run) as dry:
         if dry:
             return
