@@ -512,3 +512,17 @@ def test_mpeg2_encodes_a_12_fps_mp4_and_mpeg1_refuses_it_naming_its_rate(workdir
     err = fails(None, "video", "in.mp4", "-o", "m1.mp4", "--codec", "mpeg1video", "rotate")
     assert "--codec mpeg1video: it does not take the input's 12 fps" in err, err
     assert "12288" not in err and not Path("m1.mp4").exists()
+
+
+@pytest.mark.parametrize(
+    "effect",
+    [["rotat", "--yaw", "3"], ["zooom", "--at", "0,0", "--factor", "2"], ["rotat"]],
+    ids=lambda e: " ".join(e),
+)
+def test_a_misspelt_effect_is_named_not_taken_for_an_input(workdir, effect):
+    """'rotat' is no second INPUT clip (no such file): it is the effect, misspelt."""
+    clip = make_clip(workdir / "tour.mp4", frames=2, audio=False)
+    err = fails(None, "video", clip, "-o", workdir / "v.mp4", "--crf", "20", *effect)
+    right = {"rotat": "rotate", "zooom": "zoom"}[effect[0]]
+    assert f"no such effect '{effect[0]}' (did you mean '{right}'?)" in err
+    assert not (workdir / "v.mp4").exists()

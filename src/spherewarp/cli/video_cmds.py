@@ -39,6 +39,8 @@ class _EffectGroup(click.Group):
 
     def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
         i = next((k for k, a in enumerate(args) if a in self.commands), len(args))
+        if i == len(args):
+            self._refuse_misspelt_effect(ctx, args)
         ctx.allow_interspersed_args = True
         rest = click.Command.parse_args(self, ctx, args[:i]) + args[i:]
         ctx.allow_interspersed_args = False
@@ -47,6 +49,37 @@ class _EffectGroup(click.Group):
         else:
             ctx.protected_args, ctx.args = rest[:1], rest[1:]
         return ctx.args
+
+    def _refuse_misspelt_effect(self, ctx: click.Context, args: list[str]) -> None:
+        """No effect named: a later INPUT that is no file and reads like an effect name is a
+        misspelt effect (``rotat``), said as such, not taken for an input clip."""
+        import difflib
+        import os
+
+        takes_value = {
+            name
+            for p in self.get_params(ctx)
+            if isinstance(p, click.Option) and not p.is_flag and not p.count
+            for name in p.opts
+        }
+        positionals = 0
+        after_option = None
+        for a in args:
+            if a == "--":
+                return
+            if a.startswith("-") and len(a) > 1:
+                after_option = a if "=" not in a else None
+                continue
+            if after_option in takes_value:  # the option's value
+                after_option = None
+                continue
+            after_option = None
+            positionals += 1
+            if positionals == 1 or os.path.exists(a):
+                continue
+            close = difflib.get_close_matches(a.lower(), sorted(self.commands), n=1)
+            if close:
+                raise click.UsageError(f"no such effect {a!r} (did you mean {close[0]!r}?)")
 
 
 @click.group(
