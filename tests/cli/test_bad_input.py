@@ -305,6 +305,23 @@ def test_demo_into_a_file(capsys, workdir):
     fails(capsys, workdir, "demo", "afile", "--size", "64x32")
 
 
+def test_demo_size_too_small_names_the_option(capsys, workdir):
+    fails(capsys, workdir, "demo", "d", "--size", "10x3", needles=("'--size'", "8x4"))
+    assert not Path("d").exists()
+
+
+@pytest.mark.parametrize(
+    ("text", "needle"),
+    [("x", "not JSON"), ('{"spherewarp": 1, "steps": [{"zoom": {"factor": -1}}]}', "factor")],
+)
+def test_a_bad_recipe_file_is_named(capsys, workdir, good_png, text, needle):
+    """Its error names the file (a recipe need not be called *.json), then what is wrong."""
+    Path("some.png").write_text(text)
+    for args in (["render", "some.png", good_png, "-o", "r.png"],
+                 ["video", good_png, "-o", "v.png", "recipe", "some.png"]):  # fmt: skip
+        fails(capsys, workdir, *args, needles=("recipe 'some.png': ", needle))
+
+
 def test_format_without_the_dtype_is_converted(capsys, workdir):
     # once refused after the render; now tone-mapped (tests/cli/test_output_formats.py)
     write_image("hdr.exr", np.full((H, W, 3), 3.5, np.float32))

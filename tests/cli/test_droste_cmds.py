@@ -131,6 +131,8 @@ def test_log_view_and_inside_images(capsys, pattern, workdir) -> None:
         (("--frame", *FRAME, "--frames", "2", "--view", "log"), "--frames"),
         (("--frame", *FRAME, "--inside", "in.png", "--twist"), "divide the strands"),
         (("--center", "0,0", "--inner-radius", "200"), "radius"),
+        (("--center", "0,0", "--inner-radius", "200"), "--inner-radius: expected an angular"),
+        (("--center", "0,0", "--inner-radius", "0"), "--inner-radius: expected an angular"),
         (("--frame", *FRAME, "-o", "out.xyz"), "extension"),
         (("--frame", *FRAME, "--view", "log", "--size", "100x1"), "--size: a Droste log view"),
     ],

@@ -90,6 +90,9 @@ def test_the_generated_commands_take_the_still_commands_checks(clip, workdir):
     assert err.count("\n") == 1 and not (workdir / "x.mp4").exists()
     code, _, err = run(None, "video", clip.name, "-o", "x.mp4", "lattes", "--alpha", "1+1q")
     assert code != 0 and "--alpha" in err and err.count("\n") == 1
+    args = ["droste", "--center", "0,0", "--inner-radius", "0"]  # a map's error: the option
+    code, _, err = run(None, "video", clip.name, "-o", "x.mp4", *args)
+    assert code == 2 and "--inner-radius: expected an angular radius" in err
     code, _, err = run(None, "video", clip.name, "-o", "x.mp4", "project")
     assert code == 2 and "--to NAME" in err
     assert not (workdir / "x.mp4").exists()

@@ -278,5 +278,9 @@ def demo(directory: Path, overwrite: bool, size: tuple[int, int] | None, supersa
     from ._common import check_size_limit
 
     check_size_limit(size, None, option=False)
+    if size is not None and (size[0] < 8 or size[1] < 4):  # the smallest test pattern
+        raise click.BadParameter(
+            f"expected a size of at least 8x4, got {size[0]}x{size[1]}", param_hint="'--size'"
+        )
 
     run_demo(directory, overwrite=overwrite, size=size, supersample=supersample, echo=click.echo)

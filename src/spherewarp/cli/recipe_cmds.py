@@ -118,6 +118,18 @@ def command_recipe(data: dict[str, Any], base: Path | None = None) -> Any:
         raise InvalidValueError(f"{where}: {detail}" if where else detail) from None
 
 
+def load_recipe(path: Path | str) -> Any:
+    """:meth:`Recipe.load <spherewarp.recipe.Recipe.load>`, its errors naming the file
+    (``recipe 'R.json': not JSON: ...``)."""
+    from ..errors import InvalidValueError
+    from ..recipe import Recipe, RecipeError
+
+    try:
+        return Recipe.load(path)
+    except RecipeError as exc:
+        raise InvalidValueError(f"recipe {str(path)!r}: {exc.cli_message}") from None
+
+
 def print_options(func: Callable) -> Callable:
     """``--print`` (the recipe as JSON, render nothing) and ``--print-map`` (the map)."""
     func = click.option(
@@ -416,7 +428,6 @@ def render(
     file, named from the URL's file name (room-render.jpg).
     """
     from ..io.remote import is_url
-    from ..recipe import Recipe
     from ._common import run_inputs
     from ._files import Job, job, new_job
 
@@ -425,7 +436,7 @@ def render(
             "render writes local files only; give a local -o (OUT.jpg or DIR/)", param_hint="-o"
         )
     job().reads(recipe, "recipe")
-    r = Recipe.load(recipe)
+    r = load_recipe(recipe)
     _reads_files(r)
     frame = r.at(time)
     render = _with_recipe_options(click.get_current_context(), render, frame)
@@ -521,14 +532,13 @@ def _remote_still(input: str, recipe: str, render: RenderOptions, time: float) -
     and the GPano."""
     from ..io.remote import is_url
     from ..io.segments import _dask_threads, _set_threads
-    from ..recipe import Recipe
     from ._common import load_input
     from ._files import new_job
 
     _set_threads(_dask_threads())
     new_job()
     src = load_input(input if is_url(input) else Path(input), render)
-    return _render_frame(src, Recipe.load(recipe).at(time), render, "render")
+    return _render_frame(src, load_recipe(recipe).at(time), render, "render")
 
 
 FPS = RealType("frames per second", "24 or 29.97", metavar="F", gt=0, le=1000)
@@ -588,7 +598,6 @@ def animate(
     from dataclasses import replace
 
     from ..io.remote import is_url
-    from ..recipe import Recipe
     from ._common import run_inputs
     from ._files import Job, job, new_job
 
@@ -596,7 +605,7 @@ def animate(
     if is_url(given):
         render = replace(render, output=given)
     job().reads(recipe, "recipe")
-    r = Recipe.load(recipe)
+    r = load_recipe(recipe)
     _reads_files(r)
     groups = _groups(r, recipe, inputs)
     kwargs = {"render": render, "recipe": recipe, "r": r, "fps": fps, "duration": duration}

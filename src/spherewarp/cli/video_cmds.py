@@ -559,11 +559,11 @@ def video_recipe(ctx: click.Context, recipe: Path, output_: Any, overwrite_: boo
     """Apply a recipe (``--save-recipe``, see ``spherewarp render``): a timed one is evaluated
     at every frame's presentation time (a loop wraps round its duration), a static one is
     planned once for the whole video."""
-    from ..recipe import Recipe
     from ._files import job
+    from .recipe_cmds import load_recipe
 
     job().reads(recipe, "the recipe")
-    run_recipe(ctx, Recipe.load(recipe), recipe, output_, overwrite_)
+    run_recipe(ctx, load_recipe(recipe), recipe, output_, overwrite_)
 
 
 def run_recipe(ctx: click.Context, r: Any, path: Any, output_: Any, overwrite_: bool) -> None:

@@ -119,7 +119,7 @@ def _generate(name: str, target: str) -> click.Command:
     def callback(
         output_: Any, overwrite_: bool, size_: Any, loop: float | None = None, **values: Any
     ) -> None:
-        from ..recipe import Recipe
+        from .recipe_cmds import command_recipe
 
         ctx = click.get_current_context()
         _size_after(ctx, size_)
@@ -132,7 +132,7 @@ def _generate(name: str, target: str) -> click.Command:
         label: Any = f"video ... {name}"
         if loop is not None:
             data, label = looped(data, name, loop), "--loop"
-        recipe = Recipe.from_dict(data)
+        recipe = command_recipe(data)  # its errors name the options, as the still's do
         if recipe.at(0.0).renderer is not None:  # a log view, or --inside images
             _run_whole(ctx, recipe, inside, output_, overwrite_)
             return

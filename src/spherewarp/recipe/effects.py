@@ -257,7 +257,15 @@ def _build_droste(v: dict[str, Any]) -> Any:
     elif v["mask"] is not None:
         hole = dr.hole_from_mask(read_mask(v["mask"]), v["center"], far=v["far"])
     else:
-        hole = dr.hole_from_radius(v["center"], v["inner_radius"], far=v["far"])
+        from ..errors import InvalidValueError
+
+        try:
+            hole = dr.hole_from_radius(v["center"], v["inner_radius"], far=v["far"])
+        except InvalidValueError as exc:  # the function's 'radius' is the step's inner_radius
+            field, _, detail = str(exc).partition(": ")
+            if field != "radius":
+                raise
+            raise RecipeError("inner_radius", detail) from None
     return dr.droste_map(
         hole,
         v["scale"],
