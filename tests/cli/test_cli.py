@@ -477,3 +477,26 @@ def test_a_file_system_error_names_the_file_then_says_why():
 
     line, code = error_line(FileNotFoundError(2, "No such file or directory", "/x/out.mp4.parts"))
     assert (line, code) == ("spherewarp: error: '/x/out.mp4.parts': No such file or directory", 2)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("droste", "{a}", "--center", "0,0", "--inner-radius", "20"),
+        ("droste", "{a}", "--center", "0,0", "--inner-radius", "20", "--frames", "2"),
+        ("schottky", "{a}", "--generator", "0,0,20 -> 180,0,20"),
+        ("schottky", "{a}", "--generator", "0,0,20 -> 180,0,20", "--frames", "2"),
+        ("splitscreen", "{a}", "{b}"),
+    ],
+    ids=lambda a: " ".join(a[:1] + a[-2:]),
+)
+def test_quiet_prints_only_what_it_wrote(workdir, pattern_png, args):
+    """--quiet: 'No progress bar and no notes (the 'wrote …' line stays)': not the Droste
+    scale, the Schottky depth nor the split screen's seam."""
+    b = write_image(workdir / "b.png", make_test_pattern(W, chart="front", labels=False))
+    argv = [str(a).format(a=pattern_png, b=b) for a in args]
+    loud = ok(None, *argv, "-o", workdir / "loud.png")
+    assert any(not line.startswith("wrote") for line in loud.splitlines()), loud  # a note
+    code, out, err = run(None, *argv, "-o", workdir / "quiet.png", "--quiet")
+    assert code == 0 and err == "", err
+    assert out and all(line.startswith("wrote ") for line in out.splitlines()), out

@@ -64,3 +64,10 @@ def test_info_shows_the_pose(posed):
     code, out, err = run(None, "info", "tilted.png")
     assert code == 0, err
     assert "pose heading 100°, pitch 3°, roll -2°" in out
+
+
+def test_quiet_hides_the_dropped_pose_note(posed):
+    """--quiet: no notes (the 'wrote' line stays)."""
+    code, out, err = run(None, "rotate", "tilted.png", "--yaw", "30", "-o", "out.png", "--quiet")
+    assert code == 0 and err == "" and out == "wrote out.png\n", (out, err)
+    assert read_image("out.png").gpano.pose_heading is None

@@ -440,7 +440,8 @@ def splitscreen(
             pixels = [s.pixels for s in sources]
             options = {"cover": cover, "n": n, "lam": lam, "branch_points": branch_points or None}
             found = ss.auto_seam(pixels, feather_deg=feather, **options, force=render.force)
-            click.echo(f"seam: input meridian at longitude {found:.1f} (auto)")
+            if not render.quiet:  # a note: --quiet hides it
+                click.echo(f"seam: input meridian at longitude {found:.1f} (auto)")
             step = {**step, "seam": float(found)}
         out = render_recipe({"splitscreen": step}, render, sources, "splitscreen")[0]
         save_output(out, sources[0], render, command="splitscreen")

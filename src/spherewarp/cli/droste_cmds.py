@@ -354,7 +354,9 @@ def droste(
 
         if frames is None:
             pixels, _, fr = render_recipe({"droste": step}, render, images, "droste")
-            click.echo(f"droste: scale {fr.map.scale:.4g}" + (" (auto)" if scale == "auto" else ""))
+            if not render.quiet:  # a note: --quiet hides it
+                auto = " (auto)" if scale == "auto" else ""
+                click.echo(f"droste: scale {fr.map.scale:.4g}{auto}")
             save_output(pixels, src, render, command="droste")
             return
 
@@ -363,6 +365,6 @@ def droste(
             p.mkdir(parents=True, exist_ok=True)
         for k, r in enumerate(per_frame):  # frame k at t = k / N s of the loop recipe
             pixels, _, fr = render_recipe({"droste": step}, r, images, "droste", top, k / frames)
-            if k == 0:
+            if k == 0 and not render.quiet:
                 click.echo(f"droste: scale {fr.map.scale:.4g}, {frames} frames")
             save_output(pixels, src, r, command="droste")  # atomic, as every image written

@@ -91,12 +91,14 @@ def _view_yaw(moves: Any) -> float | None:
     return 0.0 if abs(yaw) < 1e-9 else yaw
 
 
-def _output_gpano(src: Any, shape: tuple[int, ...], pose_moves: Any, command: str) -> Any:
+def _output_gpano(
+    src: Any, shape: tuple[int, ...], pose_moves: Any, command: str, quiet: bool = False
+) -> Any:
     """The output's GPano: the input's pose turned with the view, kept, or dropped.
 
     ``pose_moves`` is the turn of the sphere that the recorded pose must follow
     (identity: the pose still holds; None: it no longer describes the pixels).
-    A pose that cannot follow is dropped with a note on stderr.
+    A pose that cannot follow is dropped with a note on stderr (unless ``quiet``).
     """
     gpano = getattr(src, "gpano", None)
     if gpano is None or not gpano.has_pose:
@@ -105,6 +107,8 @@ def _output_gpano(src: Any, shape: tuple[int, ...], pose_moves: Any, command: st
     yaw = None if pose_moves is None else _view_yaw(pose_moves)
     turned = None if yaw is None else full.turned(yaw)
     if turned is None:
+        if quiet:
+            return full.without_pose()
         click.echo(
             f"note: the input's GPano pose (PoseHeadingDegrees/PitchDegrees/RollDegrees) "
             f"does not describe the {command} output; it is left out",
@@ -133,7 +137,7 @@ def _render(
     if src is None:
         src = load_input(input, render)
     out = warp(src.pixels, forward.inverse(), **render.warp_kwargs(src.pixels))
-    gpano = _output_gpano(src, out.shape, pose_moves, command)
+    gpano = _output_gpano(src, out.shape, pose_moves, command, render.quiet)
     save_output(out, src, render, command=command, gpano=gpano)
 
 

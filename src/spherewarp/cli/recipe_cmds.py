@@ -344,7 +344,7 @@ def _render_frame(srcs: Any, frame: Any, render: RenderOptions, command: str) ->
     if frame.flat:
         gpano = False
     elif frame.pose is not None:
-        gpano = _output_gpano(srcs[0], out.shape, frame.pose, command)
+        gpano = _output_gpano(srcs[0], out.shape, frame.pose, command, render.quiet)
     return out, gpano
 
 

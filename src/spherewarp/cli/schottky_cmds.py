@@ -217,13 +217,15 @@ def schottky(
         kwargs = render.warp_kwargs(src_img.pixels)
         depth_shown = s.for_output(_output_width(kwargs, src_img.pixels.shape)).depth
         if frames is None:
-            click.echo(f"schottky: {n_gens} generator(s), depth {depth_shown}")
+            if not render.quiet:  # a note: --quiet hides it
+                click.echo(f"schottky: {n_gens} generator(s), depth {depth_shown}")
             out = render_recipe({"schottky": step}, render, src_img, "schottky")[0]
             save_output(out, src_img, render, command="schottky")
             return
         for p in {p.parent for p in paths}:
             p.mkdir(parents=True, exist_ok=True)
-        click.echo(f"schottky: {n_gens} generator(s), depth {depth_shown}, {frames} frames")
+        if not render.quiet:
+            click.echo(f"schottky: {n_gens} generator(s), depth {depth_shown}, {frames} frames")
         for k, p in enumerate(paths):  # frame k at t = k / N s of the loop recipe
             r = replace(render, output=p, output_dir=False)
             out = render_recipe({"schottky": step}, r, src_img, "schottky", top, k / frames)[0]

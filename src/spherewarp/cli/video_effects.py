@@ -461,13 +461,17 @@ def video_splitscreen(
             inputs, o["output"], combine, codec=o["codec"], crf=o["crf"], preset=o["preset"],
             pix_fmt=o["pix_fmt"], overwrite=o["overwrite"], force=o["force"],
             spherical=Spherical() if panorama else None, progress=bar,
-            note=lambda text: click.echo(f"spherewarp: note: {text}", err=True),
+            note=None if o["quiet"] else _note,
             identity=_identity(ctx, {k: v for k, v in o.items() if k != "inputs"}),
             resume=o["resume"], jobs=o["jobs"], dask=o["dask"], segment_seconds=o["segment"],
         )  # fmt: skip
     finally:
         bar.close()
     click.echo(f"wrote {o['output']} ({n_done} frames)")
+
+
+def _note(text: str) -> None:
+    click.echo(f"spherewarp: note: {text}", err=True)
 
 
 class _Combine:
