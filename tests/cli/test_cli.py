@@ -48,6 +48,55 @@ def test_every_command_help_shows_an_example(capsys, command):
     assert f"spherewarp {command} " in out.split("Example", 1)[1]
 
 
+def _help_examples() -> dict[str, list[list[str]]]:
+    """The example command lines of every command's --help (video's effects too), split."""
+    import shlex
+
+    import click
+
+    from spherewarp.cli import cli
+
+    ctx = click.Context(cli)
+    found: dict[str, list[list[str]]] = {}
+
+    def walk(cmd: click.Command, name: str) -> None:
+        lines = [ln.strip() for ln in (cmd.epilog or "").splitlines()]
+        found[name] = [shlex.split(ln) for ln in lines if ln.startswith("spherewarp ")]
+        if isinstance(cmd, click.Group):
+            for sub in cmd.list_commands(ctx):
+                walk(cmd.get_command(ctx, sub), f"{name} {sub}")
+
+    for name in COMMANDS:
+        walk(cli.get_command(ctx, name), name)
+    return found
+
+
+def test_a_commands_help_examples_write_distinct_files():
+    """Pasted in order in one folder, no example of a command's --help is refused because an
+    earlier one wrote its file ('exists; pass --overwrite')."""
+    for name, examples in _help_examples().items():
+        written: dict[str, str] = {}
+        for argv in examples:
+            if "--overwrite" in argv:
+                continue
+            for flag in ("-o", "--output", "--save-recipe"):
+                if flag in argv:
+                    path = argv[argv.index(flag) + 1]
+                    line = " ".join(argv)
+                    assert path not in written, f"{name}: {line!r} writes {path} again"
+                    written[path] = line
+
+
+def test_zooms_help_examples_run_in_sequence(workdir):
+    """zoom's examples, pasted in order in one folder (the sample as room.jpg), all run."""
+    from spherewarp.demo import sample_path
+
+    px = read_image(sample_path()).pixels
+    write_image(workdir / "room.jpg", px)
+    for argv in _help_examples()["zoom"]:
+        ok(None, *argv[1:], "--size", "128x64", "-q")
+
+
 @pytest.mark.parametrize("command", ["rotate", "zoom", "mobius"])
 def test_render_commands_have_the_common_options(capsys, command):
     out = ok(capsys, command, "--help")

@@ -222,7 +222,7 @@ def rotate(
 @click.command(
     epilog=example(
         "spherewarp zoom room.jpg --at -163,5 --factor 3 -o picture.jpg",
-        "spherewarp zoom room.jpg --at-pixel 47,243 --factor 3 --center -o picture.jpg",
+        "spherewarp zoom room.jpg --at-pixel 47,243 --factor 3 --center -o picture-centred.jpg",
     )
 )
 @input_argument
