@@ -431,6 +431,13 @@ def test_info_text_and_json(capsys, workdir):
     assert data["gpano"]["projection"] == "equirectangular"
 
 
+def test_info_gives_a_near_2to1_ratio_the_digits_that_tell_it_from_2(workdir):
+    """A 1025x512 log view is not 2:1: its ratio reads 2.002, not '2'."""
+    write_image("log.png", np.zeros((512, 1025, 3), np.uint8))
+    text = ok(None, "info", "log.png")
+    assert "1025x512 (not 2:1 (ratio 2.002); commands need --force)" in text
+
+
 def test_info_reports_crop_icc_and_non_2to1(capsys, workdir):
     from PIL import ImageCms
 

@@ -189,6 +189,21 @@ def _placed_size(gpano: Any, height: int, width: int) -> tuple[int, int] | None:
     return fw, fh
 
 
+def _ratio(w: int, h: int) -> str:
+    """w / h with the digits that tell it from 2: 1025x512 is 2.002, not 2 (as 3 digits say).
+
+    Examples
+    --------
+    >>> _ratio(1025, 512), _ratio(1000, 400), _ratio(200001, 100000)
+    ('2.002', '2.5', '2.00001')
+    """
+    for digits in range(3, 17):
+        text = f"{w / h:.{digits}g}"
+        if float(text) != 2.0:
+            return text
+    return text  # pragma: no cover - w / h is 2 only for a 2:1 size
+
+
 def _format_info(info: dict[str, Any]) -> str:
     def num(v: Any) -> str:
         return "n/a" if v is None else f"{v:g}" if isinstance(v, float) else str(v)
@@ -199,11 +214,11 @@ def _format_info(info: dict[str, Any]) -> str:
         fw, fh = placed
         shape = f"a crop of a {fw}x{fh} sphere, by its GPano; commands read it placed on it"
         if fw != 2 * fh:
-            shape += f", not 2:1 (ratio {fw / fh:.3g}): they need --force"
+            shape += f", not 2:1 (ratio {_ratio(fw, fh)}): they need --force"
     elif info["equirectangular_2to1"]:
         shape = "2:1, a full equirectangular sphere"
     else:
-        shape = f"not 2:1 (ratio {w / h:.3g}); commands need --force"
+        shape = f"not 2:1 (ratio {_ratio(w, h)}); commands need --force"
     g = info["gpano"]
     if g is None:
         gp = "none"
