@@ -106,6 +106,15 @@ def test_directory_as_input(capsys, workdir):
     fails(capsys, workdir, "info", "adir", needles=("directory",))
 
 
+def test_info_words_a_directory_as_the_other_commands_do(capsys, workdir):
+    Path("somedir.png").mkdir()
+    said = [fails(capsys, workdir, *args) for args in (["info", "somedir.png"],
+            ["rotate", "somedir.png", "--yaw", "3"])]  # fmt: skip
+    assert said[0] == said[1] == (
+        "spherewarp: error: cannot read 'somedir.png': is a directory, expected an image file\n"
+    )
+
+
 @pytest.mark.parametrize("command", [["rotate", "--yaw", "10"], ["info"]])
 def test_not_an_image(capsys, workdir, command):
     Path("notes.png").write_text("this is not a picture\n" * 10)

@@ -255,7 +255,7 @@ def _format_info(info: dict[str, Any]) -> str:
 
 
 @click.command(epilog=example("spherewarp info room.jpg", "spherewarp info room.exr --json"))
-@click.argument("input", type=click.Path(dir_okay=False, path_type=Path), metavar="INPUT")
+@click.argument("input", type=click.Path(path_type=Path), metavar="INPUT")  # a folder: read_image
 @click.option("--json", "as_json", is_flag=True, help="Print the information as JSON.")
 @max_pixels_option
 def info(input: Path, as_json: bool, max_pixels: int | None) -> None:
