@@ -369,3 +369,36 @@ def test_interrupted_write_leaves_no_temp_file(capsys, workdir, good_png, monkey
     )
     assert "interrupted" in err
     assert sorted(p.name for p in workdir.iterdir()) == ["in.png"]
+
+
+def _limited(size: int):
+    """A preexec_fn: files of at most ``size`` bytes (a write past it fails with EFBIG, as a
+    full disk's does with ENOSPC; Python ignores SIGXFSZ)."""
+    import resource
+
+    return lambda: resource.setrlimit(resource.RLIMIT_FSIZE, (size, size))
+
+
+def test_a_write_that_fails_names_the_output_not_a_temporary_file(workdir, good_png):
+    """A still, a segmented video and the demo that cannot be written (here: too large,
+    as on a full disk) name what the user named; the demo leaves no empty folder."""
+    import json
+
+    from _cli import run_cli
+
+    r = workdir / "loop.json"
+    steps = [{"zoom": {"at": [0, 0], "factor": {"keyframes": [[0, 1], [1, 3]]}}}]
+    r.write_text(json.dumps({"spherewarp": 1, "duration": 1, "steps": steps}))
+    cases = [
+        (["rotate", good_png, "--yaw", "3", "-o", "out.exr"], "cannot write 'out.exr'"),
+        (["animate", r, good_png, "--fps", "12", "-o", "loop.mp4"], "/loop.mp4': File too"),
+        (["demo", "demo", "--size", "64x32"], "demo"),
+    ]
+    for args, needle in cases:
+        code, out, err = run_cli(*args, preexec_fn=_limited(1000))
+        assert code == 2 and err.count("\n") == 1 and needle in err, err
+        assert ".tmp" not in err and "spherewarp-" not in err and ".parts/" not in err, err
+    code, _, err = run_cli(*cases[1][0], preexec_fn=_limited(1000))
+    assert "rerun with --resume to continue from '" in err and "/loop.mp4.parts'" in err, err
+    assert not Path("demo").exists()
+    assert not list(Path().glob(".*spherewarp-*"))

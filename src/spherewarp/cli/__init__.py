@@ -16,8 +16,10 @@ from __future__ import annotations
 
 import importlib
 import os
+import re
 import sys
 import warnings
+from pathlib import Path
 from typing import Any
 
 import click
@@ -135,6 +137,57 @@ def _show_warning(message: Any, category: Any, *args: Any, **kwargs: Any) -> Non
     click.echo(f"spherewarp: warning: {_one_line(text)}", err=True)
 
 
+#: a temporary file's name (spherewarp.io.atomic.temp_name): ``.NAME.spherewarp-PID-HEX.tmpSUFFIX``
+_TEMP_NAME = re.compile(r"\.([^/\\'\"\s]*?)\.spherewarp-\d+-[0-9a-f]{8}\.tmp(?:\.[A-Za-z0-9]+)?")
+
+
+def _named(text: str) -> str:
+    """``text`` with each temporary file's name replaced by the name of the file it becomes
+    (a temporary one of a temporary one too): the user named that one, not the other.
+
+    Examples
+    --------
+    >>> _named("'/d/.out.exr.spherewarp-17-9c6c2b97.tmp.exr': No space left on device")
+    "'/d/out.exr': No space left on device"
+    >>> _named("/d/..seg-0.mp4.spherewarp-1-9c6c2b97.tmp.mp4.spherewarp-1-39ed5f44.tmp.mp4")
+    '/d/seg-0.mp4'
+    """
+    while True:
+        named = _TEMP_NAME.sub(r"\1", text)
+        if named == text:
+            return text
+        text = named
+
+
+def _os_error(exc: OSError) -> str:
+    """An OSError's message, naming the file the user named: a video's, not a segment's in
+    its work folder (``OUT.parts``), nor a temporary file's; a full disk said as such."""
+    import errno
+
+    reason = str(exc.strerror or exc)
+    full = exc.errno in (errno.ENOSPC, errno.EDQUOT)
+    if full:
+        reason += " (the disk is full)"
+    if not getattr(exc, "filename", None):
+        return reason
+    path = Path(_named(os.fsdecode(exc.filename)))
+    parts = next((p for p in path.parents if p.name.endswith(".parts")), None)
+    if parts is None:
+        return f"cannot write '{path}': {reason}" if _is_write(exc) else f"'{path}': {reason}"
+    output = parts.with_name(parts.name[: -len(".parts")])
+    text = f"cannot write '{output}': {reason}"
+    if parts.is_dir():
+        then = "free some space, then rerun" if full else "rerun"
+        text += f"; {then} with --resume to continue from '{parts}'"
+    return text
+
+
+def _is_write(exc: OSError) -> bool:
+    import errno
+
+    return exc.errno in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS)
+
+
 def error_line(exc: BaseException, prog: str = "spherewarp") -> tuple[str, int] | None:
     """The one line and exit status for an error a user can fix, or None for another exception."""
     if isinstance(exc, click.ClickException):
@@ -144,10 +197,9 @@ def error_line(exc: BaseException, prog: str = "spherewarp") -> tuple[str, int] 
             where = f" (see '{ctx.command_path} --help')"
         return f"{prog}: error: {_one_line(exc.format_message())}{where}", exc.exit_code or 2
     if isinstance(exc, SpherewarpError):
-        return f"{prog}: error: {_one_line(exc.cli_message)}", 2
+        return f"{prog}: error: {_one_line(_named(exc.cli_message))}", 2
     if isinstance(exc, OSError):
-        name = f" '{exc.filename}':" if getattr(exc, "filename", None) else ""
-        return f"{prog}: error:{name} {_one_line(exc.strerror or exc)}", 2
+        return f"{prog}: error: {_one_line(_os_error(exc))}", 2
     if isinstance(exc, MemoryError):
         return f"{prog}: error: out of memory (try a smaller --size)", 2
     return None

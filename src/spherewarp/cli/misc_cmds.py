@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
+import os
 from pathlib import Path
 from typing import Any
 
@@ -298,4 +300,13 @@ def demo(directory: Path, overwrite: bool, size: tuple[int, int] | None, supersa
             f"expected a size of at least 8x4, got {size[0]}x{size[1]}", param_hint="'--size'"
         )
 
-    run_demo(directory, overwrite=overwrite, size=size, supersample=supersample, echo=click.echo)
+    made = not os.path.lexists(directory)
+    try:
+        run_demo(
+            directory, overwrite=overwrite, size=size, supersample=supersample, echo=click.echo
+        )
+    except BaseException:
+        if made:  # a folder this run made and wrote nothing into (a full disk) goes again
+            with contextlib.suppress(OSError):
+                directory.rmdir()
+        raise
