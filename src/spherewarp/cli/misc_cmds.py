@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import contextlib
 import json
-import os
 from pathlib import Path
 from typing import Any
 
@@ -300,13 +298,5 @@ def demo(directory: Path, overwrite: bool, size: tuple[int, int] | None, supersa
             f"expected a size of at least 8x4, got {size[0]}x{size[1]}", param_hint="'--size'"
         )
 
-    made = not os.path.lexists(directory)
-    try:
-        run_demo(
-            directory, overwrite=overwrite, size=size, supersample=supersample, echo=click.echo
-        )
-    except BaseException:
-        if made:  # a folder this run made and wrote nothing into (a full disk) goes again
-            with contextlib.suppress(OSError):
-                directory.rmdir()
-        raise
+    # run_demo removes a folder it made and wrote nothing into (a full disk)
+    run_demo(directory, overwrite=overwrite, size=size, supersample=supersample, echo=click.echo)
