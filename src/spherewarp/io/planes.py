@@ -269,10 +269,11 @@ class PlanarPlan:
         oh, ow = self.out_shape
         out = np.empty((oh * 3 // 2, ow), planes.dtype)
         self.luma.apply(planes[:h], out=out[:oh].reshape(oh, ow, 1), background=black[0])
-        uv = self.chroma.apply(np.stack([u, v], axis=-1), background=black[1])
+        # U and V one at a time: an image of two channels is grey and alpha to the renderer
+        # (its colour filtered premultiplied by the second), which chroma planes are not
         och = oh // 2
-        out[oh : oh + och // 2] = uv[..., 0].reshape(och // 2, ow)
-        out[oh + och // 2 :] = uv[..., 1].reshape(och // 2, ow)
+        out[oh : oh + och // 2] = self.chroma.apply(u, background=black[1]).reshape(och // 2, ow)
+        out[oh + och // 2 :] = self.chroma.apply(v, background=black[1]).reshape(och // 2, ow)
         return out
 
 
