@@ -204,7 +204,8 @@ class WarpMap:
         Parameters
         ----------
         image : ndarray (H, W[, C])
-            ``(H, W) == in_shape``; uint8, uint16, float32 or float64, 1-4 channels.
+            ``(H, W) == in_shape``; uint8, uint16, float32 or float64, 1-4 channels
+            (the last of 2 or 4 straight alpha, as for :func:`~spherewarp.render.warp`).
         background, alpha
             As for :func:`~spherewarp.render.warp`.
         out : ndarray, optional

@@ -169,7 +169,11 @@ def warp(
         pixels: pass the metadata on to :func:`~spherewarp.io.write_image`).
         A sequence gives the sheets that a map with several sheets
         (:attr:`~spherewarp.maps.PullBack.sheet`) samples; they must share
-        dtype and channel count but may differ in size.
+        dtype and channel count but may differ in size. The last of 2 or 4
+        channels is straight (unassociated) alpha: colour is filtered
+        premultiplied by it, so transparent pixels' colour does not bleed into
+        their neighbours (:func:`~spherewarp.render.plan.render_straight_alpha`);
+        warp other data of 2 or 4 channels (chroma planes...) one channel at a time.
     inverse_map : SphereMap
         The map from output points to input points.
     output_shape : (height, width), optional
