@@ -461,7 +461,7 @@ def video_splitscreen(
             inputs, o["output"], combine, codec=o["codec"], crf=o["crf"], preset=o["preset"],
             pix_fmt=o["pix_fmt"], overwrite=o["overwrite"], force=o["force"],
             spherical=Spherical() if panorama else None, progress=bar,
-            note=None if o["quiet"] else _note,
+            note=_note,  # the clips' lengths differ: the output is cut short, even with -q
             identity=_identity(ctx, {k: v for k, v in o.items() if k != "inputs"}),
             resume=o["resume"], jobs=o["jobs"], dask=o["dask"], segment_seconds=o["segment"],
         )  # fmt: skip
