@@ -151,7 +151,13 @@ class _EffectGroup(click.Group):
     "as stored; the rotation is dropped).",
 )
 @click.option("--overwrite", is_flag=True, help="Replace an existing output.")
-@click.option("-q", "--quiet", is_flag=True, help="No progress bar, no notes.")
+@click.option(
+    "-q",
+    "--quiet",
+    is_flag=True,
+    help="No progress bar, no notes (but one: split-screen clips of different lengths, which "
+    "cut the output short).",
+)
 @segment_options
 @click.pass_context
 def video(ctx: click.Context, input: tuple[Path, ...], output: Path, **options: Any) -> None:
