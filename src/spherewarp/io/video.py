@@ -191,12 +191,21 @@ def check_container(enc: Any, output: Path) -> None:
             f"--codec {enc.name}: a WebM file holds VP8, VP9 or AV1 video; use --codec "
             "libvpx-vp9 (or libvpx, libsvtav1), or write .mkv"
         )
-    if _holds(mux, enc.name):
+    _refuse_unless(enc.name, mux, lambda m: _holds(m, enc.name))
+
+
+def _refuse_unless(codec: str, mux: str, takes: Callable[[str], bool]) -> None:
+    """Refuse ``codec`` in a ``mux`` file unless ``takes(mux)``, naming the extensions whose
+    muxers take it (``.mp4``, ``.mov``, ``.mkv``), or saying to choose another codec."""
+    if takes(mux):
         return
-    others = [e for e in (".mp4", ".mov", ".mkv") if _holds(muxer(Path("x" + e)), enc.name)]
+    others = [
+        e for e in (".mp4", ".mov", ".mkv")
+        if (m := muxer(Path("x" + e))) != mux and takes(m)
+    ]  # fmt: skip
     where = f"write {' or '.join(others)}" if others else "choose another --codec"
     raise InvalidValueError(
-        f"--codec {enc.name}: {_CONTAINER_NAMES[mux]} file cannot hold {enc.name} video "
+        f"--codec {codec}: {_CONTAINER_NAMES[mux]} file cannot hold {codec} video "
         f"(as FFmpeg writes it); {where}"
     )
 
@@ -363,13 +372,19 @@ def output_range(out_pix: str, in_pix: str | None = None, in_range: int = 0) -> 
     return RANGE_UNSPECIFIED
 
 
-def _is_rgb(pix_fmt: str) -> bool:
+def _video_format(pix_fmt: str) -> Any:
+    """PyAV's ``VideoFormat`` of ``pix_fmt``, or None for a name FFmpeg does not know."""
     import av
 
     try:
-        return bool(av.VideoFormat(pix_fmt).is_rgb)
+        return av.VideoFormat(pix_fmt)
     except (ValueError, av.error.FFmpegError):
-        return False
+        return None
+
+
+def _is_rgb(pix_fmt: str) -> bool:
+    f = _video_format(pix_fmt)
+    return f is not None and bool(f.is_rgb)
 
 
 def output_colors(out_pix: str, in_pix: str, colors: tuple[int, int, int]) -> tuple[int, int, int]:
@@ -719,19 +734,7 @@ def _check_header(
     """Refuse a codec whose stream the output's muxer refuses when it writes its header (VP9
     or AV1 in a MOV file: the codec table allows them, the muxer does not), before any frame
     is rendered; the encoder itself opened (:func:`_check_encoder`)."""
-    mux = muxer(output)
-    if _starts(mux, enc, pix, options, info, size):
-        return
-    others = [
-        e for e in (".mp4", ".mkv", ".mov")
-        if muxer(Path("x" + e)) != mux and _starts(muxer(Path("x" + e)), enc, pix, options, info,
-                                                   size)
-    ]  # fmt: skip
-    where = f"write {' or '.join(others)}" if others else "choose another --codec"
-    raise InvalidValueError(
-        f"--codec {enc.name}: {_CONTAINER_NAMES[mux]} file cannot hold {enc.name} video "
-        f"(as FFmpeg writes it); {where}"
-    )
+    _refuse_unless(enc.name, muxer(output), lambda m: _starts(m, enc, pix, options, info, size))
 
 
 class _Stop(Exception):
@@ -1120,12 +1123,8 @@ def prepare(
 
 
 def _has_alpha(pix_fmt: str) -> bool:
-    import av
-
-    try:
-        return any(c.is_alpha for c in av.VideoFormat(pix_fmt).components)
-    except (ValueError, av.error.FFmpegError):
-        return False
+    f = _video_format(pix_fmt)
+    return f is not None and any(c.is_alpha for c in f.components)
 
 
 def _rgb_format(enc: Any, in_pix: str, out_pix: str) -> str:
