@@ -535,12 +535,20 @@ def _quiet_decoder(p: Path) -> Any:
             yield
     finally:
         log.disabled = was_disabled
+    _warn_once(caught, f"{p}: ", stacklevel=5)
+
+
+def _warn_once(
+    caught: list[warnings.WarningMessage], prefix: str = "", stacklevel: int = 3
+) -> None:
+    """Say each distinct warning of ``caught`` (held by ``catch_warnings(record=True)``)
+    once, on one line, after ``prefix``."""
     seen = set()
     for w in caught:
         text = " ".join(str(w.message).split())
         if text not in seen:
             seen.add(text)
-            warnings.warn(f"{p}: {text}", w.category, stacklevel=4)
+            warnings.warn(prefix + text, w.category, stacklevel=stacklevel)
 
 
 def _sniff(head: bytes) -> str | None:
@@ -981,14 +989,14 @@ def _exif_orientation(exif: bytes) -> int:
     return int(value) if isinstance(value, int) and 1 <= value <= 8 else 1
 
 
-def _exif_upright(exif: bytes) -> bytes:
+def _exif_upright(exif: bytes, orientation: int | None = None) -> bytes:
     """``exif`` (with its header) with Orientation = 1 where it has another value.
 
     The value is patched in place in IFD0 (a SHORT entry), so that every other byte,
     the sub-IFDs and maker notes included, is kept as it was; a blob whose entry
     cannot be patched so is rewritten by Pillow with the tag set to 1.
     """
-    if _exif_orientation(exif) == 1:
+    if (_exif_orientation(exif) if orientation is None else orientation) == 1:
         return exif
     tiff = exif[len(_EXIF_HEADER) :]
     try:
@@ -1031,7 +1039,7 @@ def _upright(arr: np.ndarray, exif: bytes) -> tuple[np.ndarray, bytes]:
         7: lambda a: a[::-1, ::-1].transpose(1, 0, 2),  # mirrored about the other diagonal
         8: lambda a: np.rot90(a, 1),  # stored turned 90 degrees clockwise
     }[o](arr)
-    return np.ascontiguousarray(turned), _exif_upright(exif)
+    return np.ascontiguousarray(turned), _exif_upright(exif, o)
 
 
 def read_image(
@@ -1568,9 +1576,5 @@ def write_image(
         raise ImageFormatError(
             f"cannot write '{p}': {fmt} encoding or writing failed ({type(exc).__name__}: {exc})"
         ) from exc
-    seen = set()
-    for w in caught:
-        if str(w.message) not in seen:
-            seen.add(str(w.message))
-            warnings.warn(str(w.message), w.category, stacklevel=2)
+    _warn_once(caught)
     return p
