@@ -19,7 +19,7 @@ from typing import Any
 import click
 
 from ._common import POINT, RealType, RenderOptions, example, input_argument, render_options
-from .recipe_cmds import print_options, recipe_options, render_recipe, saving_recipe
+from .recipe_cmds import print_options, printed, recipe_options, render_recipe, saving_recipe
 from .recipe_cmds import print_recipe as show_recipe
 
 __all__ = ["power", "exp", "map_cmd", "splitscreen"]
@@ -123,17 +123,6 @@ def _render(input: Path, render: RenderOptions, pull_map: Any, command: str) -> 
     save_output(out, src, render, command=command)
 
 
-def _printed(
-    step: dict[str, Any], pull: Any, render: RenderOptions, input: Any, recipe: bool, map: bool
-) -> bool:
-    """``--print`` (the recipe) or ``--print-map`` (the map pulled back by): True if printed."""
-    if map:
-        click.echo(pull.to_json())
-    elif recipe:
-        show_recipe(step, render, input)
-    return map or recipe
-
-
 def _points(value: Any) -> Any:
     """A point (or a tuple of points) as recipe JSON lists; None stays None."""
     if not value:
@@ -211,7 +200,7 @@ def power(
         "look_at": _points(look_at),
     }
     pull = EFFECTS["power"].build({**step, "branch_points": branch_points or None})
-    if _printed({"power": step}, pull, render, input, print_recipe, print_map):
+    if printed({"power": step}, pull, render, input, print_recipe, print_map):
         return
     with saving_recipe({"power": step}, render, input, save_recipe, dry_run) as dry:
         if not dry:
@@ -261,7 +250,7 @@ def exp(
     render = _supersample(render, EXP_SUPERSAMPLE)
     step = {"lam": lam, "branch_points": _points(branch_points), "look_at": _points(look_at)}
     pull = EFFECTS["exp"].build({**step, "branch_points": branch_points or None})
-    if _printed({"exp": step}, pull, render, input, print_recipe, print_map):
+    if printed({"exp": step}, pull, render, input, print_recipe, print_map):
         return
     with saving_recipe({"exp": step}, render, input, save_recipe, dry_run) as dry:
         if not dry:
@@ -311,7 +300,7 @@ def map_cmd(
 
     step = {"expr": expr, "chart": chart.lower(), "look_at": _points(look_at)}
     pull = EFFECTS["map"].build({**step, "look_at": look_at})
-    if _printed({"map": step}, pull, render, input, print_recipe, print_map):
+    if printed({"map": step}, pull, render, input, print_recipe, print_map):
         return
     with saving_recipe({"map": step}, render, input, save_recipe, dry_run) as dry:
         if not dry:

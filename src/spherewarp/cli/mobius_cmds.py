@@ -16,8 +16,7 @@ from typing import Any
 import click
 
 from ._common import PIXEL, POINT, RealType, RenderOptions, example, input_argument, render_options
-from .recipe_cmds import print_options, recipe_options, saving_recipe
-from .recipe_cmds import print_recipe as show_recipe
+from .recipe_cmds import print_options, printed, recipe_options, saving_recipe
 
 __all__ = ["rotate", "zoom", "mobius"]
 
@@ -208,11 +207,7 @@ def rotate(
     else:
         step = {k: v for k, v in zip(("yaw", "pitch", "roll"), ypr, strict=True) if v is not None}
     forward = rotate_forward(yaw, pitch, roll, axis, angle)
-    if print_map:
-        click.echo(forward.to_json())
-        return
-    if print_recipe:
-        show_recipe({"rotate": step}, render, input)
+    if printed({"rotate": step}, forward, render, input, print_recipe, print_map):
         return
     with saving_recipe({"rotate": step}, render, input, save_recipe, dry_run) as dry:
         if not dry:
@@ -293,11 +288,7 @@ def zoom(
         at = (float(lon), float(lat))
     forward, pose_moves = zoom_forward(at, factor, center)
     step = {"at": list(at), "factor": factor, "center": center}
-    if print_map:
-        click.echo(forward.to_json())
-        return
-    if print_recipe:
-        show_recipe({"zoom": step}, render, input)
+    if printed({"zoom": step}, forward, render, input, print_recipe, print_map):
         return
     with saving_recipe({"zoom": step}, render, input, save_recipe, dry_run) as dry:
         if not dry:
@@ -379,11 +370,7 @@ def mobius(
         _check_distinct(to_points, "--to")
         forward = mobius_forward(None, from_points, to_points)
         step = {"from": [list(p) for p in from_points], "to": [list(p) for p in to_points]}
-    if print_map:
-        click.echo(forward.to_json())
-        return
-    if print_recipe:
-        show_recipe({"mobius": step}, render, input)
+    if printed({"mobius": step}, forward, render, input, print_recipe, print_map):
         return
     with saving_recipe({"mobius": step}, render, input, save_recipe, dry_run) as dry:
         if not dry:

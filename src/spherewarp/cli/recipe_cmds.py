@@ -34,6 +34,7 @@ __all__ = [
     "recipe_of",
     "capturing_recipe",
     "print_recipe",
+    "printed",
     "render_recipe",
 ]
 
@@ -313,6 +314,23 @@ def print_recipe(
 ) -> None:
     """``--print``: the recipe of ``step`` on stdout (validated; file names absolute)."""
     click.echo(command_recipe(recipe_of(step, render, input, top)).dumps(), nl=False)
+
+
+def printed(
+    step: dict[str, Any],
+    the_map: Any,
+    render: RenderOptions,
+    input: Path | list[Path] | None,
+    recipe: bool,
+    map: bool,
+) -> bool:
+    """``--print-map`` (``the_map`` as JSON) or ``--print`` (the recipe of ``step``) on
+    stdout, as asked; True if it printed (the command then renders nothing)."""
+    if map:
+        click.echo(the_map.to_json())
+    elif recipe:
+        print_recipe(step, render, input)
+    return map or recipe
 
 
 def render_recipe(
